@@ -1,0 +1,17 @@
+# SPDX-License-Identifier: Apache-2.0
+# Warning and sanitizer flags, applied through the interface target coxswain_options so that
+# every coxswain target gets the same set and third-party headers are left alone.
+add_library(coxswain_options INTERFACE)
+target_compile_options(coxswain_options INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
+  -Woverloaded-virtual -Wconversion -Wsign-conversion -Wnull-dereference -Wdouble-promotion
+  -Wformat=2 -Wimplicit-fallthrough)
+if(COXSWAIN_WERROR)
+  target_compile_options(coxswain_options INTERFACE -Werror)
+endif()
+
+if(COXSWAIN_SANITIZE)
+  string(REPLACE ";" "," _coxswain_san "${COXSWAIN_SANITIZE}")
+  add_compile_options(-fsanitize=${_coxswain_san} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_link_options(-fsanitize=${_coxswain_san})
+endif()
