@@ -23,16 +23,16 @@ inline std::filesystem::path source_dir() { return COXSWAIN_SOURCE_DIR; }
 
 /// Skips the current test, naming the missing file, when the shared recordings are absent.
 /// Sets `var` to the full path of `relative` inside ../shared/testdata otherwise.
-#define COXSWAIN_REQUIRE_TESTDATA(var, relative)                                             \
-  std::filesystem::path var;                                                                 \
-  do {                                                                                       \
-    const auto coxswain_dir_ = ::coxswain::testing::shared_testdata_dir();                   \
-    if (!coxswain_dir_) {                                                                    \
-      GTEST_SKIP() << "shared test data folder (" COXSWAIN_SHARED_TESTDATA                   \
-                   << ") is absent: this test needs the real recording " << (relative);      \
-    }                                                                                        \
-    var = *coxswain_dir_ / (relative);                                                       \
-    if (!std::filesystem::exists(var)) {                                                     \
+#define COXSWAIN_REQUIRE_TESTDATA(var, relative)                                              \
+  std::filesystem::path var;                                                                  \
+  do {                                                                                        \
+    const auto coxswain_dir_ = ::coxswain::testing::shared_testdata_dir();                    \
+    if (!coxswain_dir_) {                                                                     \
+      GTEST_SKIP() << "shared test data folder (" COXSWAIN_SHARED_TESTDATA                    \
+                   << ") is absent: this test needs the real recording " << (relative);       \
+    }                                                                                         \
+    var = *coxswain_dir_ / (relative);                                                        \
+    if (!std::filesystem::exists(var)) {                                                      \
       GTEST_SKIP() << "recording " << var.string() << " is absent from the shared test data"; \
-    }                                                                                        \
+    }                                                                                         \
   } while (false)

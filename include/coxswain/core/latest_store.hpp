@@ -110,9 +110,7 @@ class LatestSlot {
   }
 
   /// Number of values published so far (cheap; no copy).
-  [[nodiscard]] std::uint64_t sequence() const {
-    return seq_.load(std::memory_order_acquire) / 2;
-  }
+  [[nodiscard]] std::uint64_t sequence() const { return seq_.load(std::memory_order_acquire) / 2; }
 
  private:
   struct Envelope {

@@ -8,7 +8,17 @@
 
 namespace coxswain::msg {
 
-enum class Colour : std::uint8_t { kUnknown = 0, kRed, kGreen, kBlue, kYellow, kOrange, kPurple, kBlack, kWhite };
+enum class Colour : std::uint8_t {
+  kUnknown = 0,
+  kRed,
+  kGreen,
+  kBlue,
+  kYellow,
+  kOrange,
+  kPurple,
+  kBlack,
+  kWhite
+};
 enum class Shape : std::uint8_t { kUnknown = 0, kTriangle, kRectangle, kCross, kCircle, kBuoy };
 
 /// One object seen in one frame. Bearing in the body frame (camera mount applied).

@@ -14,11 +14,16 @@ inline constexpr std::size_t kDeviceCount = 5;
 
 [[nodiscard]] constexpr std::string_view device_name(DeviceId id) {
   switch (id) {
-    case DeviceId::kLidar: return "lidar";
-    case DeviceId::kImu: return "imu";
-    case DeviceId::kGnss: return "gnss";
-    case DeviceId::kArduino: return "arduino";
-    case DeviceId::kCamera: return "camera";
+    case DeviceId::kLidar:
+      return "lidar";
+    case DeviceId::kImu:
+      return "imu";
+    case DeviceId::kGnss:
+      return "gnss";
+    case DeviceId::kArduino:
+      return "arduino";
+    case DeviceId::kCamera:
+      return "camera";
   }
   return "unknown";
 }
@@ -28,20 +33,27 @@ enum class DeviceState : std::uint8_t {
   kAbsent,        // path does not exist / cannot be opened
   kOpening,
   kConfiguring,
-  kRunning,       // frames arriving
-  kStale,         // open but silent for longer than its timeout
+  kRunning,  // frames arriving
+  kStale,    // open but silent for longer than its timeout
   kError,
 };
 
 [[nodiscard]] constexpr std::string_view device_state_name(DeviceState s) {
   switch (s) {
-    case DeviceState::kDisabled: return "disabled";
-    case DeviceState::kAbsent: return "absent";
-    case DeviceState::kOpening: return "opening";
-    case DeviceState::kConfiguring: return "configuring";
-    case DeviceState::kRunning: return "running";
-    case DeviceState::kStale: return "stale";
-    case DeviceState::kError: return "error";
+    case DeviceState::kDisabled:
+      return "disabled";
+    case DeviceState::kAbsent:
+      return "absent";
+    case DeviceState::kOpening:
+      return "opening";
+    case DeviceState::kConfiguring:
+      return "configuring";
+    case DeviceState::kRunning:
+      return "running";
+    case DeviceState::kStale:
+      return "stale";
+    case DeviceState::kError:
+      return "error";
   }
   return "unknown";
 }
@@ -54,12 +66,12 @@ struct DeviceHealth {
   std::uint64_t bytes_received = 0;
   std::uint64_t frames_ok = 0;
   std::uint64_t checksum_errors = 0;
-  std::uint64_t framing_errors = 0;   // garbage skipped, bad lengths, bad sync
+  std::uint64_t framing_errors = 0;  // garbage skipped, bad lengths, bad sync
   std::uint64_t dropped_frames = 0;
   std::uint32_t reopen_count = 0;
   core::TimeNs last_frame_ns = core::kNeverNs;
-  double rate_hz = 0.0;               // decoded messages per second, recent window
-  std::array<char, 96> detail{};      // last notable event, NUL-terminated
+  double rate_hz = 0.0;           // decoded messages per second, recent window
+  std::array<char, 96> detail{};  // last notable event, NUL-terminated
 
   void set_detail(std::string_view text) {
     const std::size_t n = text.size() < detail.size() - 1 ? text.size() : detail.size() - 1;

@@ -26,7 +26,7 @@ struct LidarScan {
   core::TimeNs duration_ns = 0;            // first to last sample
   float max_range_m = 0.0F;                // model limit from GET_INFO / config
   float min_range_m = 0.0F;
-  std::uint32_t revolution = 0;            // counts revolutions since the driver started
+  std::uint32_t revolution = 0;  // counts revolutions since the driver started
   std::uint32_t point_count = 0;
   /// Sorted by bearing ascending; the seam lies astern (see drivers issue).
   std::array<LidarPoint, kMaxPoints> points{};

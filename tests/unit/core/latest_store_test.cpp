@@ -125,7 +125,8 @@ TEST(LatestStoreStress, NoTornReadsWithConcurrentWritersAndReaders) {
       });
     }
   }
-  for (int s = 0; s < kSlots; ++s) threads[static_cast<std::size_t>(s * (1 + kReadersPerSlot))].join();
+  for (int s = 0; s < kSlots; ++s)
+    threads[static_cast<std::size_t>(s * (1 + kReadersPerSlot))].join();
   writers_done.store(true, std::memory_order_release);
   for (std::size_t i = 0; i < threads.size(); ++i) {
     if (threads[i].joinable()) threads[i].join();

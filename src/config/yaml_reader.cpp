@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/config/yaml_reader.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+namespace coxswain::config {
+
+std::string ConfigIssue::to_string() const {
+  std::string out = file;
+  if (line > 0) out += ":" + std::to_string(line);
+  out += ": ";
+  if (!key.empty()) out += "key '" + key + "' ";
+  out += message;
+  return out;
+}
+
+std::string ConfigErrors::format() const {
+  std::string out;
+  for (const auto& issue : issues_) out += issue.to_string() + "\n";
+  return out;
+}
+
+MapReader::MapReader(YAML::Node node, std::string file, std::string path, ConfigErrors& errors)
+    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)), errors_(&errors) {
+  if (!node_.IsMap()) {
+    // An empty document or an empty nested map is read as null: treat it as an empty map.
+    if (node_.IsNull() || !node_.IsDefined()) {
+      node_ = YAML::Node(YAML::NodeType::Map);
+    } else {
+      error("", "must be a map of key: value pairs");
+      valid_ = false;
+    }
+  }
+}
+
+bool MapReader::has(std::string_view key) const {
+  if (!valid_) return false;
+  for (const auto& kv : node_) {
+    if (kv.first.IsScalar() && kv.first.Scalar() == key) return true;
+  }
+  return false;
+}
+
+std::optional<YAML::Node> MapReader::find(std::string_view key) {
+  seen_.emplace(key);
+  if (!valid_) return std::nullopt;
+  for (const auto& kv : node_) {
+    if (kv.first.IsScalar() && kv.first.Scalar() == key) return kv.second;
+  }
+  return std::nullopt;
+}
+
+std::string MapReader::full_key(std::string_view key) const {
+  if (path_.empty()) return std::string(key);
+  if (key.empty()) return path_;
+  return path_ + "." + std::string(key);
+}
+
+int MapReader::line_of(std::string_view key) const {
+  if (valid_ && !key.empty()) {
+    for (const auto& kv : node_) {
+      if (kv.first.IsScalar() && kv.first.Scalar() == key) return kv.first.Mark().line + 1;
+    }
+  }
+  const int line = node_.Mark().line;
+  return line >= 0 ? line + 1 : 0;
+}
+
+void MapReader::error(std::string_view key, std::string message) const {
+  errors_->add({file_, line_of(key), full_key(key), std::move(message)});
+}
+
+std::optional<MapReader> MapReader::map(std::string_view key, bool required) {
+  const std::optional<YAML::Node> value = find(key);
+  if (!value) {
+    if (required) error(key, "is required (a map)");
+    return std::nullopt;
+  }
+  if (!value->IsMap() && !value->IsNull()) {
+    error(key, "must be a map of key: value pairs");
+    return std::nullopt;
+  }
+  return MapReader(*value, file_, full_key(key), *errors_);
+}
+
+std::vector<YAML::Node> MapReader::sequence(std::string_view key, bool required) {
+  const std::optional<YAML::Node> value = find(key);
+  std::vector<YAML::Node> out;
+  if (!value) {
+    if (required) error(key, "is required (a list)");
+    return out;
+  }
+  if (value->IsNull()) return out;
+  if (!value->IsSequence()) {
+    error(key, "must be a list");
+    return out;
+  }
+  for (const auto& item : *value) out.push_back(item);
+  return out;
+}
+
+std::optional<MapReader> MapReader::element(const YAML::Node& node, std::size_t index,
+                                            std::string_view sequence_key) {
+  const std::string path = full_key(sequence_key) + "[" + std::to_string(index) + "]";
+  if (!node.IsMap()) {
+    const int line = node.Mark().line;
+    errors_->add({file_, line >= 0 ? line + 1 : 0, path, "must be a map of key: value pairs"});
+    return std::nullopt;
+  }
+  return MapReader(node, file_, path, *errors_);
+}
+
+void MapReader::finish() {
+  if (finished_ || !valid_) return;
+  finished_ = true;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<non-scalar>");
+    if (seen_.find(key) == seen_.end()) {
+      errors_->add({file_, kv.first.Mark().line + 1, full_key(key), "is not a known key"});
+    }
+  }
+}
+
+std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    errors.add({path, 0, "", "cannot be read: no such file"});
+    return std::nullopt;
+  }
+  std::ifstream in(path);
+  if (!in) {
+    errors.add({path, 0, "", "cannot be opened for reading"});
+    return std::nullopt;
+  }
+  try {
+    return YAML::Load(in);
+  } catch (const YAML::ParserException& e) {
+    errors.add({path, e.mark.line + 1, "", "YAML syntax error: " + e.msg});
+    return std::nullopt;
+  }
+}
+
+}  // namespace coxswain::config
