@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Reactive obstacle avoidance over one angle-bin representation (mission.md section 4):
+// selection-based (the 2022 race algorithm), score-based (2022) and 2026 risk bins, plus a
+// deliberately faithful reproduction of the 2022 code's defects for comparison in the simulator.
+// Source: /work/shared/seeds/000 section 5.2.3-5.2.4 and 002 (course 1).
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "coxswain/core/time.hpp"
+#include "coxswain/guidance/angle_bins.hpp"
+#include "coxswain/perception/obstacles.hpp"
+
+namespace coxswain::guidance {
+
+enum class Strategy : std::uint8_t {
+  kSelection = 0,  // safe bins only, closest to the goal (the 2022 race algorithm, fixed)
+  kScore = 1,      // distance + angle + goal risk, lowest total wins (2022 plan A)
+  kRiskBin = 2,    // e^(-gain r + offset) risk per bin against a threshold (2026 plan)
+  // The 2022 code as written, defects included: end-angle in-fan test, distance to the segment's
+  // first point, fixed angular margin, steer at the goal when everything is blocked, left bias on
+  // ties, no hysteresis. Only for showing the difference in simulation; never race with it.
+  kSelectionNaive2022 = 3,
+};
+
+/// Mission-file names: "selection", "score", "risk_bin", "selection_naive_2022".
+[[nodiscard]] const char* to_string(Strategy s);
+[[nodiscard]] std::optional<Strategy> parse_strategy(std::string_view name);
+
+/// What to do once even the shrunken detection range leaves no safe bin.
+enum class AllBlockedPolicy : std::uint8_t { kStop = 0, kBackOff = 1 };
+
+enum class AvoidanceStatus : std::uint8_t {
+  kClear = 0,        // the goal bearing is safe; steering at it
+  kAvoiding = 1,     // the goal bearing is blocked; steering at the best safe bin
+  kBlockedSlow = 2,  // nothing safe at the full range; found a bin after shrinking it, slowed
+  kBlockedStop = 3,  // nothing safe even at the minimum range; stopped
+  kBackOff = 4,      // as kBlockedStop, but going astern
+};
+[[nodiscard]] const char* to_string(AvoidanceStatus s);
+
+/// Which side of the goal bearing the chosen bin lies on.
+enum class Side : std::int8_t { kPort = -1, kNone = 0, kStarboard = 1 };
+
+/// Tunables. Angles in degrees (body frame), distances in metres, times in seconds. Defaults are
+/// for a ~1 m beam boat at a few knots in a KABOAT pool.
+struct AvoidanceParams {
+  Strategy strategy = Strategy::kSelection;
+  AngleFan fan{};                  // -90..+90 deg in 1 deg bins
+  double detection_range_m = 8.0;  // obstacles farther than this are ignored
+  double half_beam_m = 0.45;       // half the hull width
+  double clearance_m = 0.35;       // extra room kept on each side of the hull
+
+  // Speed: the factor falls linearly from 1 at slow_down_range_m to min_speed_factor.
+  double slow_down_range_m = 3.0;
+  double min_speed_factor = 0.35;
+
+  // All blocked: slow, shrink the range stepwise, then stop or back off.
+  double shrink_factor = 0.6;          // range multiplier per step, in (0, 1)
+  double min_detection_range_m = 1.2;  // stop shrinking below this
+  double blocked_speed_factor = 0.3;   // speed while steering on a shrunken range
+  AllBlockedPolicy all_blocked_policy = AllBlockedPolicy::kStop;
+  double back_off_speed_factor = 0.25;  // astern speed (positive number) for kBackOff
+
+  // Hysteresis: keep the previous side unless the other is better by this much (degrees of
+  // turn, or the score equivalent), and never switch again within hold_time_s of a switch
+  // unless the kept side has no safe bin left. The side is forgotten after hold_time_s clear.
+  double hysteresis_deg = 8.0;
+  double hold_time_s = 1.5;
+
+  // Score (2022 plan A). Per bin: goal_weight * |turn from goal| / 180 and, for bins an obstacle
+  // within range covers, distance_weight * (1 - d / range) + angle_weight * (1 - |bearing| / 180).
+  // Bins whose obstacle is closer than score_block_range_m are excluded outright.
+  double score_goal_weight = 1.0;
+  double score_distance_weight = 1.0;
+  double score_angle_weight = 0.3;
+  double score_block_range_m = 3.0;
+
+  // Risk bins (2026): risk = min(risk_max, e^(-risk_gain_per_m * d + risk_offset)); a bin is
+  // unsafe above risk_threshold (0.005 -> unsafe closer than ~2.5 m).
+  double risk_gain_per_m = 2.7;
+  double risk_offset = 1.5;
+  double risk_max = 100.0;
+  double risk_threshold = 0.005;
+
+  // kSelectionNaive2022 only: the fixed margin added to both ends of an obstacle.
+  double naive_margin_deg = 10.0;
+
+  /// Empty when valid, else the first problem found.
+  [[nodiscard]] std::string validate() const;
+  /// Distance below which the risk-bin risk exceeds the threshold.
+  [[nodiscard]] double risk_range_m() const;
+};
+
+/// One decision. `danger` is per bin, 0 = free .. 1 = blocked, for the live view.
+struct AvoidanceDecision {
+  double bearing_body_deg = 0.0;  // where to steer, body frame, (-180, 180]
+  double speed_factor = 1.0;      // 1 full ahead, 0 stop, negative astern
+  AvoidanceStatus status = AvoidanceStatus::kClear;
+  Side side = Side::kNone;
+  std::uint8_t shrink_steps = 0;              // how often the range was shrunk this tick
+  double effective_range_m = 0.0;             // the range the decision was made with
+  double nearest_m = AngleBins::kNoObstacle;  // closest obstacle over the fan (hull-widened)
+  std::uint32_t bin_count = 0;
+  double bin_min_deg = 0.0;
+  double bin_width_deg = 1.0;
+  std::array<float, AngleBins::kMaxBins> danger{};
+};
+
+/// The avoidance engine. Fixed-size state: the bins, per-bin scratch and the previous choice
+/// (side and when it was taken), so a decision depends only on its inputs and that state.
+/// Not thread-safe; one instance per tick thread. No allocation in `decide`.
+class Avoidance {
+ public:
+  /// nullopt (and `error` filled when given) if the params are invalid.
+  [[nodiscard]] static std::optional<Avoidance> create(const AvoidanceParams& params,
+                                                       std::string* error = nullptr);
+
+  /// `goal_bearing_body_deg`: bearing of the goal relative to the bow (psi_g), + starboard.
+  /// `now`: tick time, used only for the hold time.
+  [[nodiscard]] AvoidanceDecision decide(const perception::ObstacleList& obstacles,
+                                         double goal_bearing_body_deg, core::TimeNs now);
+  /// Forgets the previous choice (new mission leg).
+  void reset();
+
+  [[nodiscard]] const AvoidanceParams& params() const { return params_; }
+  [[nodiscard]] const AngleBins& bins() const { return bins_; }
+
+ private:
+  explicit Avoidance(const AvoidanceParams& params);
+
+  // Fills cost_ for range limit `limit_m`; returns true when at least one bin is allowed.
+  bool compute_costs(double limit_m);
+  void fill_danger(AvoidanceDecision& d, double limit_m) const;
+  [[nodiscard]] std::size_t best_in(std::size_t first, std::size_t last, double goal_deg) const;
+  [[nodiscard]] double free_room(std::size_t first, std::size_t last, double limit_m) const;
+  [[nodiscard]] std::size_t most_open_bin(double goal_deg) const;
+  [[nodiscard]] double speed_for(double nearest_m) const;
+  void decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out);
+
+  AvoidanceParams params_;
+  AngleBins bins_;
+  std::array<double, AngleBins::kMaxBins> cost_{};  // +inf = not allowed
+  double goal_deg_ = 0.0;                           // goal for the current decision
+  double cost_per_deg_ = 1.0;                       // converts hysteresis_deg into cost units
+  Side prev_side_ = Side::kNone;
+  core::TimeNs side_since_ns_ = core::kNeverNs;  // when prev_side_ was last switched to
+  core::TimeNs side_used_ns_ = core::kNeverNs;   // last tick prev_side_ was steered on
+};
+
+}  // namespace coxswain::guidance
