@@ -288,6 +288,14 @@ DecodeStep FrameScanner::finish(std::size_t taken, bool produced) {
 
 // -------------------------------------- Decoder ---------------------------------------------
 
+std::int64_t Decoder::date_for(std::int64_t tod_ms) const {
+  // The date came with an earlier sentence; correct a midnight crossing in between.
+  std::int64_t days = date_days_;
+  if (tod_ms + kMsPerDay / 2 < date_tod_ms_) ++days;
+  if (tod_ms > date_tod_ms_ + kMsPerDay / 2) --days;
+  return days;
+}
+
 void Decoder::reset() {
   scanner_.reset();
   msg_ = Message{};
@@ -427,26 +435,37 @@ bool Decoder::interpret_nmea(std::span<const std::uint8_t> frame) {
   }
   const std::string_view type = address.substr(2);
 
-  if (type == "RMC") {
+  if (type == "RMC" || type == "GLL") {
+    // RMC: 1 time, 2 status, 3-6 lat/lon, 7 speed kn, 8 course, 9 date, 12 mode.
+    // GLL: 1-4 lat/lon, 5 time, 6 status, 7 mode (position and time only).
+    const bool rmc = type == "RMC";
     std::int64_t tod_ms = 0;
-    const bool have_tod = parse_tod_ms(fields.at(1), tod_ms);
-    const std::string_view status = fields.at(2);
+    const bool have_tod = parse_tod_ms(fields.at(rmc ? 1 : 5), tod_ms);
+    const std::string_view status = fields.at(rmc ? 2 : 6);
     if (status != "A" && status != "V") return false;
-    const char mode = fields.at(12).empty() ? 'A' : fields.at(12)[0];
+    const std::string_view mode_field = fields.at(rmc ? 12 : 7);
+    const char mode = mode_field.empty() ? 'A' : mode_field[0];
     msg::GnssFix fix;
-    fix.source = msg::GnssSource::kNmeaRmc;
+    fix.source = rmc ? msg::GnssSource::kNmeaRmc : msg::GnssSource::kNmeaGll;
     fix.fix_ok = status == "A" && mode != 'N';
     if (fix.fix_ok) {
-      if (!parse_coord(fields.at(3), fields.at(4), 90.0, fix.lat_deg) ||
-          !parse_coord(fields.at(5), fields.at(6), 180.0, fix.lon_deg)) {
+      const std::size_t pos = rmc ? 3 : 1;
+      if (!parse_coord(fields.at(pos), fields.at(pos + 1), 90.0, fix.lat_deg) ||
+          !parse_coord(fields.at(pos + 2), fields.at(pos + 3), 180.0, fix.lon_deg)) {
         return false;
       }
-      // RMC cannot tell 2-D from 3-D; the matching GGA does.
+      // RMC/GLL cannot tell 2-D from 3-D; the matching GGA does.
       fix.fix_type = mode == 'E' ? msg::FixType::kDeadReckoning : msg::FixType::k2D;
       fix.diff_soln = mode == 'D' || mode == 'F' || mode == 'R';
       fix.rtk = mode == 'F'   ? msg::RtkSolution::kFloat
                 : mode == 'R' ? msg::RtkSolution::kFixed
                               : msg::RtkSolution::kNone;
+    }
+    if (!rmc) {
+      if (have_tod && have_date_) fix.utc_ns = utc_ns_from_ms(date_for(tod_ms), tod_ms);
+      msg_.kind = MessageKind::kFix;
+      msg_.fix = fix;
+      return true;
     }
     const std::string_view date = fields.at(9);
     unsigned dd = 0;
@@ -512,13 +531,7 @@ bool Decoder::interpret_nmea(std::span<const std::uint8_t> frame) {
                 : quality == 5 ? msg::RtkSolution::kFloat
                                : msg::RtkSolution::kNone;
     }
-    if (have_tod && have_date_) {
-      // The date belongs to an earlier sentence; correct a midnight crossing in between.
-      std::int64_t days = date_days_;
-      if (tod_ms + kMsPerDay / 2 < date_tod_ms_) ++days;
-      if (tod_ms > date_tod_ms_ + kMsPerDay / 2) --days;
-      fix.utc_ns = utc_ns_from_ms(days, tod_ms);
-    }
+    if (have_tod && have_date_) fix.utc_ns = utc_ns_from_ms(date_for(tod_ms), tod_ms);
     if (fix.fix_ok && have_tod && have_rmc_velocity_ && rmc_tod_ms_ == tod_ms) {
       fix.ground_speed_mps = rmc_speed_mps_;
       if (rmc_course_valid_) {

@@ -109,7 +109,7 @@ struct Rtcm3Frame {
 
 enum class MessageKind : std::uint8_t {
   kNone,
-  kFix,        // NAV-PVT, NMEA GGA or NMEA RMC -> Message::fix
+  kFix,        // NAV-PVT, NMEA GGA, RMC or GLL -> Message::fix
   kHpPosLlh,   // NAV-HPPOSLLH -> Message::hp
   kAck,        // ACK-ACK -> Message::ubx = acknowledged class/id
   kNak,        // ACK-NAK -> Message::ubx = rejected class/id
@@ -133,6 +133,7 @@ struct Message {
 /// step. NMEA fixes: RMC gives the date and velocity, GGA the quality (4 = RTK fixed,
 /// 5 = float), altitude, satellites and HDOP; a GGA fix also carries the date and velocity of the
 /// RMC of the same second when it came first (u-blox order), so a GGA fix alone is complete.
+/// GLL gives a 2-D position-only fix (dated from the last RMC/ZDA).
 /// Pure: no clock, no I/O, no allocation. Not thread-safe (one owner).
 class Decoder {
  public:
@@ -150,6 +151,8 @@ class Decoder {
   [[nodiscard]] bool interpret(FrameKind kind, std::span<const std::uint8_t> frame);
   [[nodiscard]] bool interpret_ubx(std::span<const std::uint8_t> frame);
   [[nodiscard]] bool interpret_nmea(std::span<const std::uint8_t> frame);
+  /// Days since 1970 for a UTC time of day, from the last date seen (midnight-safe).
+  [[nodiscard]] std::int64_t date_for(std::int64_t tod_ms) const;
 
   FrameScanner scanner_;
   Message msg_;
