@@ -98,8 +98,7 @@ LidarClusterer::LidarClusterer(const LidarClusterParams& params) : params_(param
   stack_.resize(n + 2);
 }
 
-void LidarClusterer::process(const msg::LidarScan& scan, ObstacleList& out,
-                             RangeProfile& profile) {
+void LidarClusterer::process(const msg::LidarScan& scan, ObstacleList& out, RangeProfile& profile) {
   stats_ = LidarClusterStats{};
   out.clear();
   out.stamp_ns = scan.stamp_ns;
@@ -163,8 +162,7 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
 }
 
 double LidarClusterer::gap_limit_m(const WorkPoint& a, const WorkPoint& b) const {
-  return params_.group_gap_m +
-         params_.group_gap_per_m * double{std::min(a.range_m, b.range_m)};
+  return params_.group_gap_m + params_.group_gap_per_m * double{std::min(a.range_m, b.range_m)};
 }
 
 bool LidarClusterer::breaks(const WorkPoint& a, const WorkPoint& b) const {
@@ -373,7 +371,8 @@ void LidarClusterer::fill_profile(RangeProfile& profile) const {
     for (std::uint32_t i = groups_[g].begin; i < groups_[g].end; ++i) {
       const WorkPoint& p = points_[i];
       auto idx = static_cast<std::int64_t>(std::floor((double{p.bearing_deg} + 180.0) / width));
-      if (idx >= static_cast<std::int64_t>(bins)) idx -= static_cast<std::int64_t>(bins);  // +180 is the -180 bin
+      if (idx >= static_cast<std::int64_t>(bins))
+        idx -= static_cast<std::int64_t>(bins);  // +180 is the -180 bin
       idx = std::clamp<std::int64_t>(idx, 0, static_cast<std::int64_t>(bins) - 1);
       float& slot = profile.closest_range_m[static_cast<std::size_t>(idx)];
       slot = std::min(slot, p.range_m);
