@@ -15,6 +15,7 @@ std::optional<std::string> HeadingPidParams::validate() const {
   }
   if (!(output_limit > 0.0) || output_limit > 1.0) return "output_limit must be in (0, 1]";
   if (!(integral_limit >= 0.0)) return "integral_limit must be >= 0";
+  if (!(integral_zone_deg > 0.0)) return "integral_zone_deg must be > 0";
   if (!(tracking_gain_per_s >= 0.0)) return "tracking_gain_per_s must be >= 0";
   if (!(derivative_tau_s >= 0.0)) return "derivative_tau_s must be >= 0";
   if (!(max_dt_s > 0.0)) return "max_dt_s must be > 0";
@@ -60,18 +61,20 @@ double HeadingPid::update(const HeadingPidInput& in) {
     rate_dps_ = 0.0;
   }
 
-  if (dt > 0.0) integral_ += p_.ki_per_deg_s * e * dt;
+  if (dt > 0.0 && std::abs(e) < p_.integral_zone_deg) integral_ += p_.ki_per_deg_s * e * dt;
   integral_ = std::clamp(integral_, -p_.integral_limit, p_.integral_limit);
 
   const double pterm = p_.kp_per_deg * e;
   const double dterm = -p_.kd_per_dps * rate_dps_;
   const double unsat = pterm + integral_ + dterm;
   const double out = std::clamp(unsat, -p_.output_limit, p_.output_limit);
-  // Back-calculation: while saturated, pull the integral toward the value that would just reach
-  // the limit, so it is not stored up against a turn the actuator cannot deliver.
+  // Back-calculation: while saturated, bleed the integral so it is not stored up against a turn
+  // the actuator cannot deliver. It only shrinks toward zero: driving it past zero would store a
+  // bias the other way whenever P alone saturates (every large turn).
   if (dt > 0.0 && out != unsat) {
-    integral_ += p_.tracking_gain_per_s * dt * (out - unsat);
-    integral_ = std::clamp(integral_, -p_.integral_limit, p_.integral_limit);
+    const double bleed = p_.tracking_gain_per_s * dt * (out - unsat);
+    if (bleed < 0.0 && integral_ > 0.0) integral_ = std::max(0.0, integral_ + bleed);
+    if (bleed > 0.0 && integral_ < 0.0) integral_ = std::min(0.0, integral_ + bleed);
   }
 
   last_heading_deg_ = in.heading_deg;

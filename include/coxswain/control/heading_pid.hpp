@@ -12,10 +12,13 @@ namespace coxswain::control {
 /// Tunables; gains are per degree of heading error (psi_e) so the output is a unitless turn
 /// command (1 = full rudder / full yaw-rate demand).
 struct HeadingPidParams {
-  double kp_per_deg = 1.0 / 45.0;    // full turn command at 45 deg of error
-  double ki_per_deg_s = 0.002;       // integral gain, per (deg * s)
-  double kd_per_dps = 0.01;          // derivative gain, per deg/s of measured yaw rate
-  double output_limit = 1.0;         // |turn command| limit, 0 < limit <= 1
+  double kp_per_deg = 1.0 / 45.0;  // full turn command at 45 deg of error
+  double ki_per_deg_s = 0.002;     // integral gain, per (deg * s)
+  double kd_per_dps = 0.01;        // derivative gain, per deg/s of measured yaw rate
+  double output_limit = 1.0;       // |turn command| limit, 0 < limit <= 1
+  /// The integral only trims a steady bias (an asymmetric hull or thrust), so it integrates only
+  /// while |psi_e| is below this; large turns are P/D work and would wind it up.
+  double integral_zone_deg = 10.0;
   double integral_limit = 0.3;       // hard clamp on the integral term's contribution
   double tracking_gain_per_s = 2.0;  // back-calculation gain: bleeds the integral when saturated
   double derivative_tau_s = 0.2;     // low-pass on the heading-difference rate (unused with gyro)
