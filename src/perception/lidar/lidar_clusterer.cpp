@@ -118,15 +118,16 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
       std::min<std::uint32_t>(scan.point_count, static_cast<std::uint32_t>(scan.points.size()));
   stats_.points_in = n_in;
   double max_range_m = params_.max_range_m;
-  if (scan.max_range_m > 0.0F) max_range_m = std::min(max_range_m, double{scan.max_range_m});
+  if (scan.max_range_m > 0.0F)
+    max_range_m = std::min(max_range_m, static_cast<double>(scan.max_range_m));
 
   // Pass 1: filters, in scan order (bearing ascending), into points_ as scratch.
   std::uint32_t kept = 0;
   for (std::uint32_t i = 0; i < n_in; ++i) {
     const msg::LidarPoint& p = scan.points[i];
-    const double r = p.range_m;
+    const auto r = static_cast<double>(p.range_m);
     if (!(r > 0.0) || !std::isfinite(r) || r < params_.min_range_m || r > max_range_m) continue;
-    double b = p.bearing_deg;
+    auto b = static_cast<double>(p.bearing_deg);
     if (!(b > -180.0 && b <= 180.0)) b = core::wrap_deg(b);
     if (!std::isfinite(b)) continue;
     const double x = r * std::cos(core::deg_to_rad(b));
@@ -142,7 +143,7 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
   const double start = params_.walk_start_bearing_deg;
   if (params_.walk_clockwise) {
     std::uint32_t s = 0;
-    while (s < kept && double{points_[s].bearing_deg} < start) ++s;
+    while (s < kept && static_cast<double>(points_[s].bearing_deg) < start) ++s;
     if (s == kept) s = 0;
     for (std::uint32_t i = 0; i < kept; ++i) filtered_[i] = points_[(s + i) % kept];
   } else {
@@ -150,7 +151,7 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
     std::uint32_t s = kept - 1;
     bool found = false;
     for (std::uint32_t i = kept; i-- > 0;) {
-      if (double{points_[i].bearing_deg} <= start) {
+      if (static_cast<double>(points_[i].bearing_deg) <= start) {
         s = i;
         found = true;
         break;
@@ -162,7 +163,8 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
 }
 
 double LidarClusterer::gap_limit_m(const WorkPoint& a, const WorkPoint& b) const {
-  return params_.group_gap_m + params_.group_gap_per_m * double{std::min(a.range_m, b.range_m)};
+  return params_.group_gap_m +
+         params_.group_gap_per_m * static_cast<double>(std::min(a.range_m, b.range_m));
 }
 
 bool LidarClusterer::breaks(const WorkPoint& a, const WorkPoint& b) const {
@@ -230,8 +232,8 @@ void LidarClusterer::split_group(Span group) {
         k = i;
       }
     }
-    const double limit =
-        params_.split_distance_m + params_.split_distance_per_m * double{points_[k].range_m};
+    const double limit = params_.split_distance_m +
+                         params_.split_distance_per_m * static_cast<double>(points_[k].range_m);
     bool split = max_d > limit;
     Span left{};
     Span right{};
@@ -370,7 +372,8 @@ void LidarClusterer::fill_profile(RangeProfile& profile) const {
   for (std::uint32_t g = 0; g < group_count_; ++g) {
     for (std::uint32_t i = groups_[g].begin; i < groups_[g].end; ++i) {
       const WorkPoint& p = points_[i];
-      auto idx = static_cast<std::int64_t>(std::floor((double{p.bearing_deg} + 180.0) / width));
+      auto idx = static_cast<std::int64_t>(
+          std::floor((static_cast<double>(p.bearing_deg) + 180.0) / width));
       if (idx >= static_cast<std::int64_t>(bins))
         idx -= static_cast<std::int64_t>(bins);  // +180 is the -180 bin
       idx = std::clamp<std::int64_t>(idx, 0, static_cast<std::int64_t>(bins) - 1);

@@ -128,7 +128,7 @@ TEST(LidarPeerRecording, DefaultModeCoversTheirObstaclesWithHonestDistances) {
       const BodyPoint origin{};
       ASSERT_NEAR(o.closest_range_m, point_to_segment_m(origin, o.begin, o.end), 1e-4);
       ASSERT_LE(o.closest_range_m, std::min(dist_m(o.begin, origin), dist_m(o.end, origin)) + 1e-4);
-      nearest_segment_m = std::min(nearest_segment_m, double{o.closest_range_m});
+      nearest_segment_m = std::min(nearest_segment_m, static_cast<double>(o.closest_range_m));
     }
     // The profile agrees with the segments to within the line-fit residual.
     float nearest_bin_m = RangeProfile::kNoReturn;
