@@ -269,18 +269,42 @@ bool Decoder::on_single_answer() {
   }
 }
 
-// Standard nodes: slide one byte at a time until byte 0 has S != !S, byte 1 has C = 1 and the
-// angle is below 360 deg (the SDK checks only the first two; the angle check makes a false lock
-// on misaligned data less likely).
+// Standard nodes (protocols.md 1.6). In sync, a node is accepted when byte 0 has S != !S,
+// byte 1 has C = 1 and the angle is below 360 deg (the SDK checks only the first two). These
+// checks are weak: structured data can pass them at a wrong byte offset. So after a loss of
+// sync the decoder slides one byte at a time and accepts only two consecutive candidates whose
+// angle advances by a plausible step (kMinResyncStepQ6..kMaxResyncStepQ6), emitted together.
+namespace {
+constexpr int kMinResyncStepQ6 = 3;       // > 0.04 deg: a misaligned lock barely moves
+constexpr int kMaxResyncStepQ6 = 5 * 64;  // <= 5 deg: no model skips more between samples
+
+bool node_prefix_ok(const std::uint8_t* p, std::size_t len) {
+  if (len >= 1 && (((p[0] >> 1U) ^ p[0]) & 1U) == 0) return false;
+  if (len >= 2 && (p[1] & 1U) == 0) return false;
+  if (len >= 3 && (u16_at(p + 1) >> 1U) >= kFullCircleQ6) return false;
+  return true;
+}
+
+HqNode node_at(const std::uint8_t* p) {
+  return hq_from_standard(p[0], u16_at(p + 1), u16_at(p + 3));
+}
+}  // namespace
+
 bool Decoder::on_node_byte(std::uint8_t b) {
   frame_[frame_len_++] = b;
-  auto prefix_ok = [this]() {
-    if (frame_len_ >= 1 && (((frame_[0] >> 1U) ^ frame_[0]) & 1U) == 0) return false;
-    if (frame_len_ >= 2 && (frame_[1] & 1U) == 0) return false;
-    if (frame_len_ >= 3 && (u16_at(frame_.data() + 1) >> 1U) >= kFullCircleQ6) return false;
-    return true;
-  };
-  while (frame_len_ > 0 && !prefix_ok()) {
+  for (;;) {
+    bool ok = node_prefix_ok(frame_.data(), std::min(frame_len_, kNodeSize));
+    if (ok && !in_sync_ && frame_len_ > kNodeSize) {
+      ok = node_prefix_ok(frame_.data() + kNodeSize, frame_len_ - kNodeSize);
+      if (ok && frame_len_ == 2 * kNodeSize) {
+        const int a1 = u16_at(frame_.data() + 1) >> 1U;
+        const int a2 = u16_at(frame_.data() + kNodeSize + 1) >> 1U;
+        int step = a2 - a1;
+        if (step < 0) step += kFullCircleQ6;
+        ok = step >= kMinResyncStepQ6 && step <= kMaxResyncStepQ6;
+      }
+    }
+    if (ok) break;
     if (in_sync_) {
       in_sync_ = false;
       ++stats_.node_check_errors;
@@ -290,16 +314,19 @@ bool Decoder::on_node_byte(std::uint8_t b) {
     std::copy(frame_.begin() + 1, frame_.begin() + static_cast<std::ptrdiff_t>(frame_len_),
               frame_.begin());
     --frame_len_;
+    if (frame_len_ == 0) return false;
   }
-  if (frame_len_ < kNodeSize) return false;
-  frame_len_ = 0;
-  in_sync_ = true;
-  ++stats_.codec.frames_ok;
+  const std::size_t need = in_sync_ ? kNodeSize : 2 * kNodeSize;
+  if (frame_len_ < need) return false;
   message_.kind = MessageKind::kNodes;
   message_.nodes.source = AnswerType::kMeasurement;
-  message_.nodes.count = 1;
-  message_.nodes.nodes[0] =
-      hq_from_standard(frame_[0], u16_at(frame_.data() + 1), u16_at(frame_.data() + 3));
+  message_.nodes.count = static_cast<std::uint32_t>(need / kNodeSize);
+  for (std::size_t i = 0; i < message_.nodes.count; ++i) {
+    message_.nodes.nodes[i] = node_at(frame_.data() + i * kNodeSize);
+  }
+  stats_.codec.frames_ok += message_.nodes.count;
+  frame_len_ = 0;
+  in_sync_ = true;
   return true;
 }
 
