@@ -136,7 +136,7 @@ class Avoidance {
   bool compute_costs(double limit_m);
   void fill_danger(AvoidanceDecision& d, double limit_m) const;
   [[nodiscard]] std::size_t best_in(std::size_t first, std::size_t last, double goal_deg) const;
-  [[nodiscard]] double free_room(std::size_t first, std::size_t last, double limit_m) const;
+  [[nodiscard]] double free_room(Side side, double window_deg, double limit_m) const;
   [[nodiscard]] std::size_t most_open_bin(double goal_deg) const;
   [[nodiscard]] double speed_for(double nearest_m) const;
   void decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out);

@@ -123,8 +123,8 @@ void Avoidance::reset() {
 bool Avoidance::compute_costs(double limit_m) {
   const std::size_t n = bins_.size();
   bool any = false;
-  const double block_m =
-      params_.score_block_range_m * (limit_m / params_.detection_range_m);  // shrinks too
+  // The score's hard block shrinks with the range once the range falls below it.
+  const double block_m = std::min(params_.score_block_range_m, limit_m);
   for (std::size_t j = 0; j < n; ++j) {
     const double c = bins_.center_deg(j);
     const double d = bins_.range_m(j);
@@ -167,10 +167,16 @@ std::size_t Avoidance::best_in(std::size_t first, std::size_t last, double goal_
   return best;
 }
 
-double Avoidance::free_room(std::size_t first, std::size_t last, double limit_m) const {
+double Avoidance::free_room(Side side, double window_deg, double limit_m) const {
+  // Clearance summed over the bins within `window_deg` of the goal on one side; the same window
+  // on both sides so the fan's own asymmetry about the goal does not decide.
   double room = 0.0;
-  for (std::size_t j = first; j < last; ++j) {
-    room += std::min<double>(bins_.range_m(j), params_.detection_range_m) / limit_m;
+  const double sign = side == Side::kPort ? -1.0 : 1.0;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    const double off = sign * core::angle_diff_deg(bins_.center_deg(j), goal_deg_);
+    if (off > 0.0 && off <= window_deg) {
+      room += std::min(bins_.range_m(j), params_.detection_range_m) / limit_m;
+    }
   }
   return room;
 }
@@ -221,6 +227,8 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
               params_.score_distance_weight * (1.0 - d / limit_m) +
               params_.score_angle_weight * (1.0 - std::abs(bins_.center_deg(j)) / 180.0);
           danger = w > 0.0 ? std::clamp(risk / w, 0.0, 1.0) : 0.0;
+        } else if (d < params_.detection_range_m) {
+          danger = 0.5;  // seen, but beyond the shrunken range
         }
         break;
       default:
@@ -325,8 +333,11 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     } else if (prev_side_ != Side::kNone) {
       side = prev_side_;
     } else {
-      const double rp = free_room(0, goal_bin, limit);
-      const double rs = free_room(goal_bin + 1, n, limit);
+      const double window =
+          std::min(std::abs(core::angle_diff_deg(goal_deg_, params_.fan.min_deg)),
+                   std::abs(core::angle_diff_deg(params_.fan.max_deg, goal_deg_)));
+      const double rp = free_room(Side::kPort, window, limit);
+      const double rs = free_room(Side::kStarboard, window, limit);
       side = rp > rs && !tied(rp, rs) ? Side::kPort : Side::kStarboard;
     }
   } else if (cp < kInf || cs < kInf) {

@@ -1,0 +1,337 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/guidance/avoidance.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "coxswain/core/angles.hpp"
+
+namespace coxswain::guidance {
+namespace {
+
+using perception::ObstacleList;
+using perception::ObstacleSegment;
+
+ObstacleSegment seg(double f0, double s0, double f1, double s1) {
+  ObstacleSegment s;
+  s.begin = {f0, s0};
+  s.end = {f1, s1};
+  return s;
+}
+
+// A short segment across the line of sight at `bearing_deg`, `range_m` away (a buoy).
+ObstacleSegment buoy(double range_m, double bearing_deg, double half_width_m = 0.2) {
+  const double a = core::deg_to_rad(bearing_deg);
+  const double f = range_m * std::cos(a);
+  const double s = range_m * std::sin(a);
+  return seg(f + half_width_m * std::sin(a), s - half_width_m * std::cos(a),
+             f - half_width_m * std::sin(a), s + half_width_m * std::cos(a));
+}
+
+ObstacleList list_of(std::initializer_list<ObstacleSegment> segs) {
+  ObstacleList l;
+  for (const auto& s : segs) EXPECT_TRUE(l.push(s));
+  return l;
+}
+
+Avoidance make(Strategy s, AvoidanceParams p = {}) {
+  p.strategy = s;
+  std::string err;
+  auto a = Avoidance::create(p, &err);
+  EXPECT_TRUE(a.has_value()) << err;
+  return std::move(*a);
+}
+
+// Lateral distance at which a straight run along `heading_deg` passes a point.
+double pass_distance(double range_m, double bearing_deg, double heading_deg) {
+  const double d = std::abs(core::deg_to_rad(core::angle_diff_deg(bearing_deg, heading_deg)));
+  return d >= core::kPi / 2 ? range_m : range_m * std::sin(d);
+}
+
+constexpr Strategy kOurs[] = {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin};
+constexpr core::TimeNs kTick = 100 * core::kNsPerMs;
+
+TEST(AvoidanceParams, ValidateAndNames) {
+  EXPECT_EQ(AvoidanceParams{}.validate(), "");
+  AvoidanceParams p;
+  p.shrink_factor = 1.0;
+  EXPECT_NE(p.validate(), "");
+  p = {};
+  p.min_detection_range_m = 20.0;
+  EXPECT_NE(p.validate(), "");
+  p = {};
+  p.risk_threshold = 10.0;  // above e^1.5: never unsafe
+  EXPECT_NE(p.validate(), "");
+  EXPECT_FALSE(Avoidance::create(p).has_value());
+  for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
+                           Strategy::kSelectionNaive2022}) {
+    EXPECT_EQ(parse_strategy(to_string(s)), s);
+  }
+  EXPECT_FALSE(parse_strategy("fuzzy").has_value());
+  EXPECT_NEAR(AvoidanceParams{}.risk_range_m(), (1.5 - std::log(0.005)) / 2.7, 1e-12);
+}
+
+TEST(Avoidance, ClearPathSteersAtTheGoalForEveryStrategy) {
+  for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
+                           Strategy::kSelectionNaive2022}) {
+    Avoidance a = make(s);
+    const auto d = a.decide(list_of({buoy(5.0, -60.0)}), 23.4, 0);
+    EXPECT_DOUBLE_EQ(d.bearing_body_deg, 23.4) << to_string(s);
+    EXPECT_EQ(d.status, AvoidanceStatus::kClear) << to_string(s);
+    EXPECT_EQ(d.side, Side::kNone);
+    const auto e = a.decide(ObstacleList{}, -41.0, kTick);
+    EXPECT_DOUBLE_EQ(e.bearing_body_deg, -41.0) << to_string(s);
+    EXPECT_DOUBLE_EQ(e.speed_factor, 1.0);
+  }
+}
+
+TEST(Avoidance, GoalOutsideTheFanSteersAtTheNearestEdge) {
+  Avoidance a = make(Strategy::kSelection);
+  const auto d = a.decide(ObstacleList{}, 150.0, 0);
+  EXPECT_NEAR(d.bearing_body_deg, 89.5, 1e-9);
+  const auto e = a.decide(ObstacleList{}, -150.0, kTick);
+  EXPECT_NEAR(e.bearing_body_deg, -89.5, 1e-9);
+}
+
+TEST(Avoidance, EveryStrategyAvoidsABuoyOnTheGoalLineWithHullClearance) {
+  const AvoidanceParams p;
+  const double hull = p.half_beam_m + p.clearance_m;
+  for (const Strategy s : kOurs) {
+    Avoidance a = make(s);
+    const auto d = a.decide(list_of({buoy(2.0, 3.0, 0.1)}), 0.0, 0);
+    EXPECT_EQ(d.status, AvoidanceStatus::kAvoiding) << to_string(s);
+    EXPECT_NE(d.side, Side::kNone);
+    EXPECT_GE(pass_distance(2.0, 3.0, d.bearing_body_deg), hull - 0.1) << to_string(s);
+    EXPECT_LT(d.speed_factor, 1.0);  // 2 m is inside the slow-down range
+    EXPECT_GT(d.speed_factor, 0.0);
+  }
+}
+
+TEST(Avoidance, RiskBinsIgnoreLowRiskFarObstaclesSelectionDoesNot) {
+  Avoidance risk = make(Strategy::kRiskBin);
+  Avoidance sel = make(Strategy::kSelection);
+  const auto l = list_of({buoy(5.0, 0.0)});
+  const auto r = risk.decide(l, 0.0, 0);
+  const auto s = sel.decide(l, 0.0, 0);
+  EXPECT_EQ(r.status, AvoidanceStatus::kClear);  // e^(-2.7*5+1.5) is far below the threshold
+  EXPECT_EQ(s.status, AvoidanceStatus::kAvoiding);
+  const std::size_t ahead = risk.bins().index_of(0.0);
+  EXPECT_GT(r.danger[ahead], 0.0F);
+  EXPECT_LT(r.danger[ahead], 1.0F);
+  EXPECT_FLOAT_EQ(s.danger[ahead], 1.0F);
+}
+
+TEST(Avoidance, ScoreGradesDangerAndBlocksNearObstacles) {
+  Avoidance a = make(Strategy::kScore);
+  const auto far = a.decide(list_of({buoy(6.0, 40.0)}), 0.0, 0);
+  const std::size_t i = a.bins().index_of(40.0);
+  EXPECT_GT(far.danger[i], 0.0F);
+  EXPECT_LT(far.danger[i], 1.0F);
+  const auto near = a.decide(list_of({buoy(2.0, 40.0)}), 40.0, kTick);
+  EXPECT_FLOAT_EQ(near.danger[i], 1.0F);
+  EXPECT_GT(std::abs(near.bearing_body_deg - 40.0), 10.0);
+}
+
+// ---- Each defect of the 2022 code: a case the naive version fails and ours passes. ----
+
+TEST(Defects, WallSpanningTheWholeFanWithEndsOutsideIt) {
+  AvoidanceParams p;
+  p.fan = {-60.0, 60.0, 1.0};
+  // 2 m ahead, first point 5.4 m away (in range), both ends at +-68 deg: outside the fan.
+  const auto wall = list_of({seg(2.0, -5.0, 2.0, 5.0)});
+  Avoidance naive = make(Strategy::kSelectionNaive2022, p);
+  const auto n = naive.decide(wall, 0.0, 0);
+  EXPECT_EQ(n.status, AvoidanceStatus::kClear);  // defect: never saw the wall
+  EXPECT_DOUBLE_EQ(n.bearing_body_deg, 0.0);
+  EXPECT_DOUBLE_EQ(n.speed_factor, 1.0);
+  for (const Strategy s : kOurs) {
+    Avoidance a = make(s, p);
+    const auto d = a.decide(wall, 0.0, 0);
+    EXPECT_NE(d.status, AvoidanceStatus::kClear) << to_string(s);
+    EXPECT_LT(d.speed_factor, 1.0) << to_string(s);
+    EXPECT_GT(d.danger[a.bins().index_of(0.0)], 0.0F) << to_string(s);
+  }
+}
+
+TEST(Defects, FirstPointFarButMiddleNear) {
+  // First point ~10 m (beyond the 8 m range), but the wall passes 3 m ahead of the bow.
+  const auto wall = list_of({seg(3.0, -9.5, 3.0, 2.0)});
+  Avoidance naive = make(Strategy::kSelectionNaive2022);
+  EXPECT_DOUBLE_EQ(naive.decide(wall, 0.0, 0).bearing_body_deg, 0.0);  // defect: straight on
+  Avoidance a = make(Strategy::kSelection);
+  const auto d = a.decide(wall, 0.0, 0);
+  EXPECT_EQ(d.status, AvoidanceStatus::kAvoiding);
+  EXPECT_GT(d.bearing_body_deg, 20.0);  // round the free (starboard) end
+}
+
+TEST(Defects, AllBlockedSlowsShrinksThenStopsOrBacksOff) {
+  // A pocket: wall 0.9 m ahead and walls 0.9 m to each side.
+  const auto pocket =
+      list_of({seg(0.9, -3.0, 0.9, 3.0), seg(-1.0, -0.9, 0.9, -0.9), seg(-1.0, 0.9, 0.9, 0.9)});
+  Avoidance naive = make(Strategy::kSelectionNaive2022);
+  const auto n = naive.decide(pocket, 10.0, 0);
+  EXPECT_DOUBLE_EQ(n.bearing_body_deg, 10.0);  // defect: straight at the goal, full speed
+  EXPECT_DOUBLE_EQ(n.speed_factor, 1.0);
+  for (const Strategy s : kOurs) {
+    Avoidance a = make(s);
+    const auto d = a.decide(pocket, 10.0, 0);
+    EXPECT_EQ(d.status, AvoidanceStatus::kBlockedStop) << to_string(s);
+    EXPECT_DOUBLE_EQ(d.speed_factor, 0.0);
+    EXPECT_GT(d.shrink_steps, 0);
+    AvoidanceParams p;
+    p.all_blocked_policy = AllBlockedPolicy::kBackOff;
+    Avoidance b = make(s, p);
+    const auto e = b.decide(pocket, 10.0, 0);
+    EXPECT_EQ(e.status, AvoidanceStatus::kBackOff) << to_string(s);
+    EXPECT_LT(e.speed_factor, 0.0);
+  }
+}
+
+TEST(Defects, AllBlockedAtFullRangeShrinksAndSlows) {
+  AvoidanceParams p;
+  p.fan = {-60.0, 60.0, 1.0};
+  const auto wall = list_of({seg(3.0, -20.0, 3.0, 20.0)});
+  Avoidance a = make(Strategy::kSelection, p);
+  const auto d = a.decide(wall, 0.0, 0);
+  EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow);
+  EXPECT_GE(d.shrink_steps, 1);
+  EXPECT_LT(d.effective_range_m, p.detection_range_m);
+  EXPECT_LE(d.speed_factor, p.blocked_speed_factor);
+}
+
+TEST(Defects, ShrinkingFindsTheGapBetweenNearBuoysUnderAFarWall) {
+  // A wall 4 m ahead closes every bin at 8 m; near buoys at +-30 deg leave a gap ahead once the
+  // range is shrunk. The goal is at 20 deg: steer into the gap, at the side nearest the goal.
+  AvoidanceParams p;
+  p.fan = {-60.0, 60.0, 1.0};
+  const auto l = list_of({seg(4.0, -20.0, 4.0, 20.0), buoy(2.5, -30.0, 0.1), buoy(2.5, 30.0, 0.1)});
+  Avoidance a = make(Strategy::kSelection, p);
+  const auto d = a.decide(l, 20.0, 0);
+  EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow);
+  EXPECT_GT(d.bearing_body_deg, 0.0);
+  EXPECT_GE(pass_distance(2.5, 30.0, d.bearing_body_deg), p.half_beam_m + p.clearance_m - 0.1);
+}
+
+TEST(Defects, MarginGrowsNearAndShrinksFar) {
+  const AvoidanceParams p;
+  const double hull = p.half_beam_m + p.clearance_m;
+  // Near: the naive fixed 10 deg passes a buoy 1.5 m ahead closer than the half beam.
+  const auto near = list_of({buoy(1.5, 0.0, 0.0)});
+  Avoidance naive = make(Strategy::kSelectionNaive2022);
+  const auto n = naive.decide(near, 0.0, 0);
+  EXPECT_LT(pass_distance(1.5, 0.0, n.bearing_body_deg), p.half_beam_m);  // defect: a hit
+  Avoidance a = make(Strategy::kSelection);
+  const auto d = a.decide(near, 0.0, 0);
+  EXPECT_GE(pass_distance(1.5, 0.0, d.bearing_body_deg), hull);
+  // Far: ours turns less than the naive fixed margin, and still clears the hull.
+  const auto far = list_of({buoy(7.5, 0.0, 0.0)});
+  Avoidance naive2 = make(Strategy::kSelectionNaive2022);
+  Avoidance b = make(Strategy::kSelection);
+  const auto nf = naive2.decide(far, 0.0, 0);
+  const auto df = b.decide(far, 0.0, 0);
+  EXPECT_LT(std::abs(df.bearing_body_deg), std::abs(nf.bearing_body_deg));
+  EXPECT_GE(pass_distance(7.5, 0.0, df.bearing_body_deg), hull);
+}
+
+TEST(Defects, ExactTieHasNoLeftBias) {
+  // A buoy dead ahead on the goal line: both sides cost exactly the same.
+  const auto sym = list_of({buoy(4.0, 0.0)});
+  Avoidance naive = make(Strategy::kSelectionNaive2022);
+  EXPECT_EQ(naive.decide(sym, 0.0, 0).side, Side::kPort);  // defect: always port
+  // Ours: the more open side wins the tie. A far obstacle on the port side makes starboard
+  // more open; its mirror image makes port more open.
+  const auto port_cluttered = list_of({buoy(4.0, 0.0), buoy(6.0, -60.0, 1.0)});
+  const auto stbd_cluttered = list_of({buoy(4.0, 0.0), buoy(6.0, 60.0, 1.0)});
+  Avoidance naive2 = make(Strategy::kSelectionNaive2022);
+  EXPECT_EQ(naive2.decide(port_cluttered, 0.0, 0).side, Side::kPort);  // defect
+  for (const Strategy s : kOurs) {
+    AvoidanceParams p;
+    p.risk_threshold = 1e-5;  // risk bins see 6 m too
+    Avoidance a = make(s, p);
+    EXPECT_EQ(a.decide(port_cluttered, 0.0, 0).side, Side::kStarboard) << to_string(s);
+    Avoidance b = make(s, p);
+    EXPECT_EQ(b.decide(stbd_cluttered, 0.0, 0).side, Side::kPort) << to_string(s);
+    Avoidance c = make(s, p);
+    // Perfect symmetry: starboard (COLREG rule 14), not a port default.
+    EXPECT_EQ(c.decide(sym, 0.0, 0).side, Side::kStarboard) << to_string(s);
+  }
+}
+
+TEST(Defects, JitterDeadAheadDoesNotFlipSides) {
+  Avoidance naive = make(Strategy::kSelectionNaive2022);
+  int naive_flips = 0;
+  Side naive_prev = Side::kNone;
+  for (const Strategy s : kOurs) {
+    Avoidance a = make(s);
+    Side prev = Side::kNone;
+    int flips = 0;
+    for (int k = 0; k < 60; ++k) {
+      const double jitter = (k % 2 == 0) ? 0.5 : -0.5;
+      const auto l = list_of({buoy(2.2, jitter, 0.3)});
+      const core::TimeNs now = k * kTick;
+      const auto d = a.decide(l, 0.0, now);
+      ASSERT_NE(d.side, Side::kNone) << to_string(s);
+      if (prev != Side::kNone && d.side != prev) ++flips;
+      prev = d.side;
+      if (s == Strategy::kSelection) {
+        const auto n = naive.decide(l, 0.0, now);
+        if (naive_prev != Side::kNone && n.side != naive_prev) ++naive_flips;
+        naive_prev = n.side;
+      }
+    }
+    EXPECT_EQ(flips, 0) << to_string(s);
+  }
+  EXPECT_GT(naive_flips, 20);  // defect: side to side every tick
+}
+
+TEST(Avoidance, SwitchesSideOnlyWhenClearlyBetterAfterTheHoldTime) {
+  Avoidance a = make(Strategy::kSelection);
+  // Buoy slightly to starboard: go port.
+  auto d = a.decide(list_of({buoy(3.0, 2.0)}), 0.0, 0);
+  ASSERT_EQ(d.side, Side::kPort);
+  // A long obstacle now extends far to port: starboard is much better, but the hold is on.
+  const auto shifted = list_of({seg(3.0, -6.0, 3.0, 0.3)});
+  d = a.decide(shifted, 0.0, 5 * kTick);
+  EXPECT_EQ(d.side, Side::kPort);
+  d = a.decide(shifted, 0.0, 20 * kTick);  // hold over, better by far more than hysteresis
+  EXPECT_EQ(d.side, Side::kStarboard);
+  // The kept side losing every safe bin forces a switch at once, hold or not.
+  const auto port_closed = list_of({seg(2.0, -8.0, 2.0, 0.2), seg(0.0, -1.0, 2.0, -1.0)});
+  Avoidance b = make(Strategy::kSelection);
+  ASSERT_EQ(b.decide(list_of({buoy(3.0, 2.0)}), 0.0, 0).side, Side::kPort);
+  EXPECT_EQ(b.decide(port_closed, 0.0, kTick).side, Side::kStarboard);
+}
+
+TEST(Avoidance, ForgetsTheSideAfterBeingClear) {
+  Avoidance a = make(Strategy::kSelection);
+  ASSERT_EQ(a.decide(list_of({buoy(3.0, 2.0)}), 0.0, 0).side, Side::kPort);
+  EXPECT_EQ(a.decide(ObstacleList{}, 0.0, kTick).status, AvoidanceStatus::kClear);
+  // Long after: a buoy slightly to port now sends us to starboard (no stale memory).
+  EXPECT_EQ(a.decide(list_of({buoy(3.0, -2.0)}), 0.0, 100 * kTick).side, Side::kStarboard);
+}
+
+TEST(Avoidance, Deterministic) {
+  for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
+                           Strategy::kSelectionNaive2022}) {
+    Avoidance a = make(s);
+    Avoidance b = make(s);
+    for (int k = 0; k < 40; ++k) {
+      const double t = 0.37 * k;
+      const auto l = list_of({buoy(2.0 + std::fmod(t, 5.0), 30.0 * std::sin(t)),
+                              seg(5.0, -4.0 + std::cos(t), 6.0, 3.0), buoy(1.5, -70.0)});
+      const double goal = 40.0 * std::sin(0.1 * k);
+      const auto x = a.decide(l, goal, k * kTick);
+      const auto y = b.decide(l, goal, k * kTick);
+      ASSERT_EQ(x.bearing_body_deg, y.bearing_body_deg);
+      ASSERT_EQ(x.speed_factor, y.speed_factor);
+      ASSERT_EQ(x.status, y.status);
+      ASSERT_EQ(x.side, y.side);
+      ASSERT_EQ(0, std::memcmp(x.danger.data(), y.danger.data(), sizeof(x.danger)));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace coxswain::guidance
