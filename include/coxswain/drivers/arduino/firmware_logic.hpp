@@ -16,13 +16,13 @@ struct LogicConfig {
   uint16_t neutral_us[kChannels] = {1500, 1500};
   uint16_t min_us[kChannels] = {1100, 1100};
   uint16_t max_us[kChannels] = {1900, 1900};
-  uint16_t failsafe_ms = 300;       // host command older than this -> neutral
-  uint16_t rc_timeout_ms = 200;     // an RC channel without a valid pulse this long is lost
-  uint16_t rc_valid_min_us = 800;   // pulses outside [min, max] are noise, not RC
+  uint16_t failsafe_ms = 300;      // host command older than this -> neutral
+  uint16_t rc_timeout_ms = 200;    // an RC channel without a valid pulse this long is lost
+  uint16_t rc_valid_min_us = 800;  // pulses outside [min, max] are noise, not RC
   uint16_t rc_valid_max_us = 2200;
-  uint16_t mode_auto_above_us = 1700;   // mode switch: autonomous at or above
-  uint16_t mode_manual_below_us = 1300; // manual at or below; in between keeps the last state
-  uint16_t boot_neutral_ms = 3000;  // ESC arming hold after reset
+  uint16_t mode_auto_above_us = 1700;    // mode switch: autonomous at or above
+  uint16_t mode_manual_below_us = 1300;  // manual at or below; in between keeps the last state
+  uint16_t boot_neutral_ms = 3000;       // ESC arming hold after reset
 
   /// NULL when consistent, else a static message naming the first problem.
   const char* validate() const {

@@ -26,8 +26,8 @@ const uint8_t kHeaderBytes = 6;  // sync0 sync1 len type seq(2)
 const uint8_t kCrcBytes = 2;
 const uint8_t kMaxPayload = 48;
 const uint8_t kMaxFrame = kHeaderBytes + kMaxPayload + kCrcBytes;
-const uint8_t kChannels = 2;     // output channels (Timer1 OC1A / OC1B)
-const uint8_t kRcChannels = 3;   // RC receiver inputs: steering, throttle, mode switch
+const uint8_t kChannels = 2;    // output channels (Timer1 OC1A / OC1B)
+const uint8_t kRcChannels = 3;  // RC receiver inputs: steering, throttle, mode switch
 
 /// Message types. Host -> board below 0x80, board -> host from 0x80.
 enum class MsgType : uint8_t {
@@ -118,8 +118,8 @@ struct Telemetry {
   uint16_t rx_crc_errors;
   uint16_t rx_framing_errors;
   uint16_t rx_bytes_skipped;
-  uint16_t seq_gaps;       // SetOutputs missed (sequence jumps)
-  uint16_t seq_duplicates; // SetOutputs ignored because their sequence repeated
+  uint16_t seq_gaps;        // SetOutputs missed (sequence jumps)
+  uint16_t seq_duplicates;  // SetOutputs ignored because their sequence repeated
   uint16_t failsafe_events;
 };
 
@@ -362,9 +362,7 @@ struct DecoderStats {
 /// Not thread-safe (one instance per serial link).
 class FrameDecoder {
  public:
-  FrameDecoder() : n_(0), pending_drop_(0) {
-    reset();
-  }
+  FrameDecoder() : n_(0), pending_drop_(0) { reset(); }
 
   void reset() {
     n_ = 0;
