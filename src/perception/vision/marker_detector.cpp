@@ -73,13 +73,14 @@ bool MarkerDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::Came
 
 void MarkerDetector::scan_colour(msg::Colour colour, const cv::Mat& mask, int width, int height,
                                  msg::CameraDetections& out) {
-  // RETR_CCOMP gives each outer contour its holes, so the filled area (and with it the fill
-  // ratio that tells a solid shape from an outline ring) is exact.
-  cv::findContours(mask, contours_, hierarchy_, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE);
+  // RETR_TREE gives each outer contour its holes, so the filled area (and with it the fill
+  // ratio that tells a solid shape from an outline ring) is exact. Islands inside a hole (the
+  // bowls of a letter B in a blue disc) are skipped: they are glyph artefacts, not markers.
+  cv::findContours(mask, contours_, hierarchy_, cv::RETR_TREE, cv::CHAIN_APPROX_SIMPLE);
   const double frame_area_px = static_cast<double>(width) * static_cast<double>(height);
   const double min_area_px = params_.min_area_fraction * frame_area_px;
   for (std::size_t i = 0; i < contours_.size(); ++i) {
-    if (hierarchy_[i][3] >= 0) continue;  // a hole, handled with its parent
+    if (hierarchy_[i][3] >= 0) continue;  // a hole (handled with its parent) or an island in one
     ++stats_.contours;
     const std::vector<cv::Point>& contour = contours_[i];
     const double outer_area_px = cv::contourArea(contour);
