@@ -56,7 +56,7 @@ class AngleBins {
   [[nodiscard]] double min_range_m() const;
 
  private:
-  // Bins [first, last] (inclusive) that may be touched, as up to two index runs (wrap-around).
+  // Bins that may be touched, as up to two half-open index runs (two when wrapping round).
   struct Runs {
     std::size_t begin[2] = {0, 0};
     std::size_t end[2] = {0, 0};  // exclusive

@@ -340,14 +340,10 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
       const double rs = free_room(Side::kStarboard, window, limit);
       side = rp > rs && !tied(rp, rs) ? Side::kPort : Side::kStarboard;
     }
-  } else if (cp < kInf || cs < kInf) {
-    side = cp < cs ? Side::kPort : Side::kStarboard;
   } else {
-    // Only the goal bin is allowed but it is not the best: impossible, costs are all finite
-    // there; keep the goal for safety of the invariant.
-    out.bearing_body_deg = bins_.center_deg(goal_bin);
-    out.status = AvoidanceStatus::kAvoiding;
-    return out;
+    // At least one side is finite: some bin is allowed and, the goal bin not being the best,
+    // the best lies on a side.
+    side = cp < cs ? Side::kPort : Side::kStarboard;
   }
   if (prev_side_ != Side::kNone && side != prev_side_ && cost_of(prev_side_) < kInf) {
     const bool holding = side_since_ns_ != core::kNeverNs && now - side_since_ns_ < hold_ns;
