@@ -44,9 +44,71 @@ void check_outputs(const cx::LogicConfig& c, const cx::LogicOutputs& o, bool est
   if (o.source == cx::OutputSource::kHost) check(!o.failsafe && o.armed);
 }
 
+// Structured mode: 8-byte records build a valid host stream (SetOutputs, Hello, RC pulses,
+// e-stop, line noise, time steps), which is decoded and drives the firmware core, so the logic
+// sees deep sequences that random bytes rarely reach through the CRC.
+void run_structured(const std::uint8_t* data, std::size_t size) {
+  cx::LogicConfig cfg;
+  cx::FirmwareLogic logic(cfg);
+  std::uint32_t now_ms = 0xFFFFF000U;  // cross the millis() wrap
+  logic.reset(now_ms);
+  cx::FrameDecoder d;
+  std::uint16_t seq = 0;
+  bool estop = false;
+  std::uint32_t accepted = 0;
+  for (std::size_t i = 0; i + 8 <= size; i += 8) {
+    const std::uint8_t* r = data + i;
+    const std::uint16_t a = static_cast<std::uint16_t>(r[1] | (r[2] << 8));
+    const std::uint16_t b = static_cast<std::uint16_t>(r[3] | (r[4] << 8));
+    now_ms += static_cast<std::uint32_t>(r[7]) * 4U;
+    std::uint8_t frame[cx::kMaxFrame];
+    std::size_t n = 0;
+    switch (r[0] % 6) {
+      case 0:
+      case 1: {
+        if (r[0] % 6 == 0) ++seq;  // case 1 repeats the sequence
+        const cx::SetOutputs so{{a, b}, r[5], r[6]};
+        n = cx::encode(so, seq, frame, sizeof(frame));
+        break;
+      }
+      case 2:
+        n = cx::encode(cx::Hello{1}, seq, frame, sizeof(frame));
+        break;
+      case 3:
+        logic.on_rc_pulse(now_ms, static_cast<std::uint8_t>(r[5] % 4), a);
+        logic.on_rc_pulse(now_ms, static_cast<std::uint8_t>(r[6] % 4), b);
+        break;
+      case 4:
+        estop = (r[5] & 1U) != 0;
+        break;
+      default:
+        frame[0] = r[5];  // noise byte
+        n = 1;
+        break;
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!d.push(frame[k])) continue;
+      const cx::Frame& f = d.frame();
+      cx::SetOutputs so{};
+      if (cx::parse(f, &so)) {
+        accepted += logic.on_set_outputs(now_ms, f.seq, so) ? 1U : 0U;
+      } else if (f.type == static_cast<std::uint8_t>(cx::MsgType::kHello)) {
+        logic.on_hello();
+      }
+    }
+    const cx::LogicOutputs o = logic.step(now_ms, cx::SwitchInputs{estop, false});
+    check_outputs(cfg, o, estop);
+  }
+  check(logic.counters().commands_accepted == static_cast<std::uint16_t>(accepted));
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size > 0 && data[0] == 0xC5) {
+    run_structured(data + 1, size - 1);
+    return 0;
+  }
   // 1. Portable decoder + firmware core, chunked by the first byte of input.
   cx::LogicConfig cfg;
   cfg.boot_neutral_ms = 100;
