@@ -7,6 +7,7 @@
 #include <memory>
 #include <span>
 
+#include "coxswain/drivers/rplidar/answer_encoder.hpp"
 #include "coxswain/drivers/rplidar/codec.hpp"
 #include "coxswain/drivers/rplidar/scan_assembler.hpp"
 
@@ -36,8 +37,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   p.max_range_m = 40.0F;
   static auto assembler = std::make_unique<ScanAssembler>(p);
   *assembler = ScanAssembler(p);
-  std::span<const std::uint8_t> rest(data + 1, size - 1);
   std::int64_t t = 0;
+  if ((sel & 0x20U) != 0 && sel % 7 != 6) {
+    // Start inside a stream so mutations explore the answer decoders, not only the hunt.
+    const auto desc = coxswain::drivers::rplidar::encode_descriptor(kTypes[sel % 7]);
+    std::span<const std::uint8_t> head(desc);
+    while (!head.empty()) head = head.subspan(d.decode(head).consumed);
+  }
+  const std::uint64_t bytes_before = d.stats().codec.bytes_in;
+  std::span<const std::uint8_t> rest(data + 1, size - 1);
   while (!rest.empty()) {
     const auto step = d.decode(rest);
     if (step.consumed == 0 || step.consumed > rest.size()) std::abort();
@@ -55,6 +63,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
   }
-  if (d.stats().codec.bytes_in != size - 1) std::abort();
+  if (d.stats().codec.bytes_in - bytes_before != size - 1) std::abort();
   return 0;
 }

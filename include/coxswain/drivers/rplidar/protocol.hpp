@@ -170,7 +170,8 @@ struct AccBoardFlag {
                                                 std::uint16_t angle_q6_checkbit,
                                                 std::uint16_t distance_q2) {
   HqNode n;
-  n.angle_z_q14 = static_cast<std::uint16_t>(((angle_q6_checkbit >> 1U) << 8U) / 90U);
+  n.angle_z_q14 =
+      static_cast<std::uint16_t>(((std::uint32_t{angle_q6_checkbit} >> 1U) << 8U) / 90U);
   n.dist_mm_q2 = distance_q2;
   n.flag = static_cast<std::uint8_t>(sync_quality & 1U);
   n.quality = static_cast<std::uint8_t>(sync_quality & 0xFCU);
