@@ -4,7 +4,7 @@
 add_library(coxswain_options INTERFACE)
 target_compile_options(coxswain_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast -Wcast-align
-  -Woverloaded-virtual -Wconversion -Wsign-conversion -Wnull-dereference -Wdouble-promotion
+  -Woverloaded-virtual -Wconversion -Wsign-conversion -Wdouble-promotion
   -Wformat=2 -Wimplicit-fallthrough)
 if(COXSWAIN_WERROR)
   target_compile_options(coxswain_options INTERFACE -Werror)

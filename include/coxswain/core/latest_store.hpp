@@ -16,6 +16,7 @@
 #include <type_traits>
 
 #include "coxswain/core/time.hpp"
+#include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/arduino_status.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/msg/device_health.hpp"
@@ -153,6 +154,8 @@ class LatestStore {
   LatestSlot<msg::ArduinoStatus> arduino;
   LatestSlot<msg::OperatorInput> operator_input;
   std::array<LatestSlot<msg::DeviceHealth>, msg::kDeviceCount> health;
+  /// The tick's output for the Arduino driver (writer: the tick thread). Not in the Snapshot.
+  LatestSlot<msg::ActuatorCommand> command;
 
   [[nodiscard]] LatestSlot<msg::DeviceHealth>& health_of(msg::DeviceId id) {
     return health[static_cast<std::size_t>(id)];

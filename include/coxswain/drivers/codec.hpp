@@ -27,12 +27,12 @@ struct DecodeStep {
 /// Error and traffic counters every codec keeps; adapters copy them into DeviceHealth.
 struct CodecStats {
   std::uint64_t bytes_in = 0;
-  std::uint64_t frames_ok = 0;         // checksummed frames accepted (any kind)
-  std::uint64_t messages_out = 0;      // messages produced for the caller
-  std::uint64_t checksum_errors = 0;   // frames whose checksum/CRC failed
-  std::uint64_t framing_errors = 0;    // bad sync, impossible length, malformed fields
-  std::uint64_t bytes_skipped = 0;     // bytes dropped while hunting for a frame start
-  std::uint64_t unsupported = 0;       // valid frames of kinds this codec ignores
+  std::uint64_t frames_ok = 0;        // checksummed frames accepted (any kind)
+  std::uint64_t messages_out = 0;     // messages produced for the caller
+  std::uint64_t checksum_errors = 0;  // frames whose checksum/CRC failed
+  std::uint64_t framing_errors = 0;   // bad sync, impossible length, malformed fields
+  std::uint64_t bytes_skipped = 0;    // bytes dropped while hunting for a frame start
+  std::uint64_t unsupported = 0;      // valid frames of kinds this codec ignores
 };
 
 }  // namespace coxswain::drivers

@@ -31,6 +31,7 @@ inline constexpr std::size_t kDeviceCount = 5;
 enum class DeviceState : std::uint8_t {
   kDisabled = 0,  // not configured
   kAbsent,        // path does not exist / cannot be opened
+  kPresent,       // device node exists, no driver has opened it yet
   kOpening,
   kConfiguring,
   kRunning,  // frames arriving
@@ -44,6 +45,8 @@ enum class DeviceState : std::uint8_t {
       return "disabled";
     case DeviceState::kAbsent:
       return "absent";
+    case DeviceState::kPresent:
+      return "present";
     case DeviceState::kOpening:
       return "opening";
     case DeviceState::kConfiguring:
@@ -70,8 +73,8 @@ struct DeviceHealth {
   std::uint64_t dropped_frames = 0;
   std::uint32_t reopen_count = 0;
   core::TimeNs last_frame_ns = core::kNeverNs;
-  double rate_hz = 0.0;           // decoded messages per second, recent window
-  std::array<char, 96> detail{};  // last notable event, NUL-terminated
+  double rate_hz = 0.0;            // decoded messages per second, recent window
+  std::array<char, 192> detail{};  // last notable event, NUL-terminated
 
   void set_detail(std::string_view text) {
     const std::size_t n = text.size() < detail.size() - 1 ? text.size() : detail.size() - 1;

@@ -18,8 +18,9 @@ struct ObstacleSegment {
   core::BodyPoint begin;
   core::BodyPoint end;
   ObstacleKind kind = ObstacleKind::kBuoy;
-  float closest_range_m = 0.0F;  // distance from the body origin to the nearest point of the segment
-  std::uint16_t point_count = 0;   // lidar returns behind this segment
+  float closest_range_m =
+      0.0F;  // distance from the body origin to the nearest point of the segment
+  std::uint16_t point_count = 0;  // lidar returns behind this segment
 };
 
 struct ObstacleList {

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The daemon's run: wires the store, the device threads, the tick loop, signals and systemd.
+#include <filesystem>
+
+#include "coxswain/config/config.hpp"
+
+namespace coxswain::app {
+
+struct RunOptions {
+  std::filesystem::path run_dir;  // already created; the log file and recordings go here
+  double run_for_s = 0.0;         // > 0: stop by itself after this long (tests, demos)
+};
+
+/// Blocks SIGINT/SIGTERM in the calling thread and so in every thread started after it (the
+/// logging thread included): run_daemon then waits for them on a thread of its own. Call first
+/// thing in main, before any thread exists.
+void block_stop_signals();
+
+/// Runs until SIGINT/SIGTERM (or run_for_s). Returns the process exit status.
+/// block_stop_signals() must have been called before any thread was started.
+int run_daemon(const config::Configuration& config, const RunOptions& options);
+
+}  // namespace coxswain::app

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Turns the per-device health in a Snapshot into log lines: one line when a device's state or
+// detail changes (never one per tick), and a periodic counters line for every device.
+#include <array>
+#include <string>
+
+#include "coxswain/core/latest_store.hpp"
+
+namespace coxswain::app {
+
+/// Not thread-safe: called from the tick thread only. Logging goes through spdlog's async logger.
+class HealthReporter {
+ public:
+  /// Logs changes since the previous call. Returns how many devices changed.
+  int report_changes(const core::Snapshot& snapshot);
+  /// Logs one counters line per enabled device.
+  void report_counters(const core::Snapshot& snapshot, core::TimeNs now_ns) const;
+  /// A one-line summary for systemd STATUS and the status page.
+  [[nodiscard]] static std::string summary(const core::Snapshot& snapshot);
+
+ private:
+  struct Last {
+    bool seen = false;
+    msg::DeviceState state = msg::DeviceState::kDisabled;
+    decltype(msg::DeviceHealth::detail) detail{};  // fixed size: no allocation per tick
+  };
+  std::array<Last, msg::kDeviceCount> last_{};
+};
+
+}  // namespace coxswain::app

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: Apache-2.0
+// The coxswain executable end to end: version, check-config exit codes and messages, print-config,
+// and a run with no devices present that keeps ticking and stops cleanly on SIGTERM.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "support/testdata.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CoxswainCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("coxswain_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result run(const std::vector<std::string>& args) {
+    std::string cmd = std::string("'") + COXSWAIN_EXE + "'";
+    for (const auto& a : args) cmd += " '" + a + "'";
+    cmd += " > '" + (dir_ / "out").string() + "' 2> '" + (dir_ / "err").string() + "'";
+    const int raw = std::system(cmd.c_str());
+    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p) << text;
+    return p;
+  }
+
+  // A devices file whose every device points at a path that does not exist.
+  fs::path absent_devices() {
+    std::string text = slurp(coxswain::testing::source_dir() / "config/devices.yaml");
+    for (const char* dev :
+         {"/dev/ttyLiDAR", "/dev/ttyIMU", "/dev/ttyGPS", "/dev/ttyARDUINO", "/dev/videoCAM"}) {
+      const std::string from = dev;
+      text.replace(text.find(from), from.size(), (dir_ / ("missing" + from.substr(5))).string());
+    }
+    return write("devices.yaml", text);
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(CoxswainCli, VersionHasGitHash) {
+  const Result r = run({"--version"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^coxswain \d+\.\d+\.\d+ \(git [0-9a-z-]+\))")))
+      << r.out;
+}
+
+TEST_F(CoxswainCli, CheckConfigAcceptsShippedFiles) {
+  const fs::path config = coxswain::testing::source_dir() / "config";
+  const Result r =
+      run({"check-config", (config / "boat.yaml").string(), (config / "devices.yaml").string(),
+           (config / "missions/kaboat2026.yaml").string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("boat.yaml: ok (boat)"), std::string::npos);
+}
+
+TEST_F(CoxswainCli, CheckConfigWrongTypeUnknownKeyOutOfRange) {
+  const fs::path bad = write("bad_mission.yaml",
+                             "kind: mission\n"
+                             "name: test\n"
+                             "tick_rate_hz: fast\n"
+                             "origin: {lat_deg: 35.0, lon_deg: 128.0}\n"
+                             "tasks:\n"
+                             "  - type: docking\n"
+                             "    time_limit_s: 99999\n"
+                             "    speling: 1\n");
+  const Result r = run({"check-config", bad.string()});
+  EXPECT_EQ(r.status, 2);
+  const std::string f = bad.string();
+  EXPECT_NE(r.err.find(f + ":3: key 'tick_rate_hz' expected a number"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(f + ":7: key 'tasks[0].time_limit_s' must be"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(f + ":8: key 'tasks[0].speling' is not a known key"), std::string::npos)
+      << r.err;
+}
+
+TEST_F(CoxswainCli, RunRefusesBadConfigWithStatus2) {
+  const fs::path bad = write("boat.yaml", "kind: boat\nhull: {length_m: -1, beam_m: 0.5}\n");
+  const Result r = run({"--boat", bad.string(), "--log-dir", (dir_ / "runs").string(), "run"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("key 'hull.length_m'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "runs"));  // nothing was started
+}
+
+TEST_F(CoxswainCli, PrintConfig) {
+  const Result r = run({"--mission", "hopping", "--print-config"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("name: hopping"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("failsafe_ms: 300"), std::string::npos);
+}
+
+// `coxswain run` with no device present keeps ticking at its rate, reports each missing device
+// once (not per tick) and exits cleanly on SIGTERM after commanding neutral outputs.
+TEST_F(CoxswainCli, RunsWithoutDevicesAndStopsOnSigterm) {
+  const fs::path devices = absent_devices();
+  const fs::path runs = dir_ / "runs";
+  std::vector<std::string> args = {COXSWAIN_EXE, "--devices",   devices.string(),
+                                   "--log-dir",  runs.string(), "run"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 2, (dir_ / "err").c_str(), O_WRONLY | O_CREAT, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, COXSWAIN_EXE, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+
+  ASSERT_TRUE(fs::is_directory(runs));
+  fs::path run_dir;
+  for (const auto& e : fs::directory_iterator(runs)) run_dir = e.path();
+  EXPECT_TRUE(
+      std::regex_match(run_dir.filename().string(), std::regex(R"(\d{6}-\d{6}-kaboat2026-01)")))
+      << run_dir;
+  const std::string log = slurp(run_dir / "coxswain.log");
+  for (const char* dev : {"lidar", "imu", "gnss", "arduino", "camera"}) {
+    const std::string line = std::string("device ") + dev + ": absent";
+    const auto first = log.find(line);
+    EXPECT_NE(first, std::string::npos) << dev << "\n" << log;
+    EXPECT_EQ(log.find(line, first + 1), std::string::npos) << "reported twice: " << dev;
+  }
+  EXPECT_NE(log.find("missingttyLiDAR: No such file or directory"), std::string::npos) << log;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      log, m, std::regex(R"(stopping on SIGTERM: commanded neutral actuators; (\d+) ticks)")))
+      << log;
+  // 2.5 s at 50 Hz is 125 ticks; a loaded test machine is allowed to start slowly.
+  EXPECT_GE(std::stoi(m[1].str()), 50);
+}
+
+}  // namespace
