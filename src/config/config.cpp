@@ -311,48 +311,6 @@ std::string_view task_type_name(TaskType type) {
   return "unknown";
 }
 
-std::string_view colour_name(msg::Colour colour) {
-  switch (colour) {
-    case msg::Colour::kUnknown:
-      return "unknown";
-    case msg::Colour::kRed:
-      return "red";
-    case msg::Colour::kGreen:
-      return "green";
-    case msg::Colour::kBlue:
-      return "blue";
-    case msg::Colour::kYellow:
-      return "yellow";
-    case msg::Colour::kOrange:
-      return "orange";
-    case msg::Colour::kPurple:
-      return "purple";
-    case msg::Colour::kBlack:
-      return "black";
-    case msg::Colour::kWhite:
-      return "white";
-  }
-  return "unknown";
-}
-
-std::string_view shape_name(msg::Shape shape) {
-  switch (shape) {
-    case msg::Shape::kUnknown:
-      return "unknown";
-    case msg::Shape::kTriangle:
-      return "triangle";
-    case msg::Shape::kRectangle:
-      return "rectangle";
-    case msg::Shape::kCross:
-      return "cross";
-    case msg::Shape::kCircle:
-      return "circle";
-    case msg::Shape::kBuoy:
-      return "buoy";
-  }
-  return "unknown";
-}
-
 namespace {
 
 void emit_mount(YAML::Emitter& out, const char* name, const core::MountTransform& m) {

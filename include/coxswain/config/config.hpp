@@ -174,7 +174,5 @@ ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors);
 std::string to_yaml(const Configuration& config);
 
 std::string_view task_type_name(TaskType type);
-std::string_view colour_name(msg::Colour colour);
-std::string_view shape_name(msg::Shape shape);
 
 }  // namespace coxswain::config

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 #include "coxswain/core/time.hpp"
 
@@ -20,6 +21,48 @@ enum class Colour : std::uint8_t {
   kWhite
 };
 enum class Shape : std::uint8_t { kUnknown = 0, kTriangle, kRectangle, kCross, kCircle, kBuoy };
+
+[[nodiscard]] constexpr std::string_view colour_name(Colour colour) {
+  switch (colour) {
+    case Colour::kUnknown:
+      return "unknown";
+    case Colour::kRed:
+      return "red";
+    case Colour::kGreen:
+      return "green";
+    case Colour::kBlue:
+      return "blue";
+    case Colour::kYellow:
+      return "yellow";
+    case Colour::kOrange:
+      return "orange";
+    case Colour::kPurple:
+      return "purple";
+    case Colour::kBlack:
+      return "black";
+    case Colour::kWhite:
+      return "white";
+  }
+  return "unknown";
+}
+
+[[nodiscard]] constexpr std::string_view shape_name(Shape shape) {
+  switch (shape) {
+    case Shape::kUnknown:
+      return "unknown";
+    case Shape::kTriangle:
+      return "triangle";
+    case Shape::kRectangle:
+      return "rectangle";
+    case Shape::kCross:
+      return "cross";
+    case Shape::kCircle:
+      return "circle";
+    case Shape::kBuoy:
+      return "buoy";
+  }
+  return "unknown";
+}
 
 /// One object seen in one frame. Bearing in the body frame (camera mount applied).
 struct Detection {

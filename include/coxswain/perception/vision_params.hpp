@@ -90,8 +90,4 @@ struct VisionParams {
 [[nodiscard]] double body_bearing_deg(double x_px, int image_width_px, double hfov_deg,
                                       double mount_yaw_deg);
 
-/// Lower-case English name ("red", "purple") for messages and test output.
-[[nodiscard]] const char* colour_name(msg::Colour colour);
-[[nodiscard]] const char* shape_name(msg::Shape shape);
-
 }  // namespace coxswain::perception

@@ -94,46 +94,4 @@ double body_bearing_deg(double x_px, int image_width_px, double hfov_deg, double
   return core::wrap_deg(camera_bearing_deg(x_px, image_width_px, hfov_deg) + mount_yaw_deg);
 }
 
-const char* colour_name(msg::Colour colour) {
-  switch (colour) {
-    case msg::Colour::kRed:
-      return "red";
-    case msg::Colour::kGreen:
-      return "green";
-    case msg::Colour::kBlue:
-      return "blue";
-    case msg::Colour::kYellow:
-      return "yellow";
-    case msg::Colour::kOrange:
-      return "orange";
-    case msg::Colour::kPurple:
-      return "purple";
-    case msg::Colour::kBlack:
-      return "black";
-    case msg::Colour::kWhite:
-      return "white";
-    case msg::Colour::kUnknown:
-      break;
-  }
-  return "unknown";
-}
-
-const char* shape_name(msg::Shape shape) {
-  switch (shape) {
-    case msg::Shape::kTriangle:
-      return "triangle";
-    case msg::Shape::kRectangle:
-      return "rectangle";
-    case msg::Shape::kCross:
-      return "cross";
-    case msg::Shape::kCircle:
-      return "circle";
-    case msg::Shape::kBuoy:
-      return "buoy";
-    case msg::Shape::kUnknown:
-      break;
-  }
-  return "unknown";
-}
-
 }  // namespace coxswain::perception
