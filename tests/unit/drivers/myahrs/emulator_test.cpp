@@ -85,7 +85,9 @@ TEST(MyahrsEmulator, StartupPlanSwitchesToBinaryQuaternionAtFiftyHertz) {
   p.content = drivers::myahrs::Content::kQuatImu;
   p.rate_hz = 50.0;
   core::TimeNs t = 0;
-  for (const auto& step : drivers::myahrs::make_startup_plan(p).view()) {
+  // The plan must outlive the loop: view() points into it.
+  const auto plan = drivers::myahrs::make_startup_plan(p);
+  for (const auto& step : plan.view()) {
     send(e, step.command);
     t += 5 * kMs;
     const std::size_t before = c.responses.size();
