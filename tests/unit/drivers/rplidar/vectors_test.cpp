@@ -109,7 +109,8 @@ TEST(RplidarVectors, VarBitScale) {
 
 TEST(RplidarVectors, DescriptorExamples) {
   COXSWAIN_REQUIRE_TESTDATA(path, "rplidar/pyrplidar_capsule_vectors.json");
-  for (const auto& e : load(path)["response_descriptor_examples"]) {
+  const auto vectors = load(path);  // range-for would not keep a temporary's member alive
+  for (const auto& e : vectors["response_descriptor_examples"]) {
     const auto bytes = from_hex(e["hex"].get<std::string>());
     const auto type =
         static_cast<AnswerType>(std::stoul(e["data_type"].get<std::string>(), nullptr, 16));
