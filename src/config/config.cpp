@@ -22,6 +22,17 @@ bool read_kind(MapReader& root, std::string_view expected) {
   return true;
 }
 
+// Loads `path` and returns the reader of its top-level map, its `kind:` already checked.
+std::optional<MapReader> open_root(const std::string& path, std::string_view kind,
+                                   ConfigErrors& errors) {
+  const auto doc = load_yaml_file(path, errors);
+  if (!doc) return std::nullopt;
+  MapReader root(*doc, path, "", errors);
+  if (!root.valid()) return std::nullopt;
+  read_kind(root, kind);
+  return root;
+}
+
 core::MountTransform read_mount(MapReader& parent, std::string_view key) {
   core::MountTransform mount;
   auto m = parent.map(key);
@@ -77,11 +88,9 @@ core::GeoPoint read_geo(MapReader& m) {
 BoatConfig load_boat_config(const std::string& path, ConfigErrors& errors) {
   BoatConfig boat;
   boat.file = path;
-  const auto doc = load_yaml_file(path, errors);
-  if (!doc) return boat;
-  MapReader root(*doc, path, "", errors);
-  if (!root.valid()) return boat;
-  read_kind(root, "boat");
+  auto opened = open_root(path, "boat", errors);
+  if (!opened) return boat;
+  MapReader& root = *opened;
   boat.name = root.get<std::string>("name", "boat");
   if (auto hull = root.map("hull", true)) {
     boat.hull.length_m = hull->require<double>("length_m", {0.2, 20.0});
@@ -144,11 +153,9 @@ BoatConfig load_boat_config(const std::string& path, ConfigErrors& errors) {
 DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors) {
   DevicesConfig d;
   d.file = path;
-  const auto doc = load_yaml_file(path, errors);
-  if (!doc) return d;
-  MapReader root(*doc, path, "", errors);
-  if (!root.valid()) return d;
-  read_kind(root, "devices");
+  auto opened = open_root(path, "devices", errors);
+  if (!opened) return d;
+  MapReader& root = *opened;
   if (auto m = root.map("lidar", true)) {
     read_serial(*m, d.lidar, "/dev/ttyLiDAR", 115200, 200);
     d.lidar.scan_mode = m->get_enum("scan_mode", LidarScanMode::kAuto,
@@ -207,11 +214,9 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
 MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors) {
   MissionConfig mission;
   mission.file = path;
-  const auto doc = load_yaml_file(path, errors);
-  if (!doc) return mission;
-  MapReader root(*doc, path, "", errors);
-  if (!root.valid()) return mission;
-  read_kind(root, "mission");
+  auto opened = open_root(path, "mission", errors);
+  if (!opened) return mission;
+  MapReader& root = *opened;
   mission.name = root.require<std::string>("name");
   for (char ch : mission.name) {
     const bool ok = (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
