@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "sim/world/generator.hpp"
+
+namespace coxswain::sim::world {
+namespace {
+
+constexpr CourseKind kKinds[] = {CourseKind::kHopping, CourseKind::kObstacle, CourseKind::kDocking,
+                                 CourseKind::kKaboat2026};
+
+TEST(Generator, SameSeedSameCourseDifferentSeedDifferentCourse) {
+  for (CourseKind kind : kKinds) {
+    const std::string a = to_course_yaml(generate_course(kind, 42));
+    const std::string b = to_course_yaml(generate_course(kind, 42));
+    const std::string c = to_course_yaml(generate_course(kind, 43));
+    EXPECT_EQ(a, b) << course_kind_name(kind);
+    EXPECT_NE(a, c) << course_kind_name(kind);
+  }
+}
+
+TEST(Generator, EveryGeneratedCourseIsValidAndSolvable) {
+  for (CourseKind kind : kKinds) {
+    for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+      GeneratorParams params;
+      params.narrow = seed % 2 == 0;
+      const Course c = generate_course(kind, seed, params);
+      config::ConfigErrors errors;
+      validate_world(c.world, errors);
+      EXPECT_TRUE(errors.empty()) << errors.format();
+      std::string why;
+      EXPECT_TRUE(course_is_solvable(c.world, 0.8, 0.3, &why))
+          << course_kind_name(kind) << " seed " << seed << ": " << why;
+    }
+  }
+}
+
+TEST(Generator, KindsHaveTheirParts) {
+  EXPECT_GE(generate_course(CourseKind::kHopping, 3).world.waypoints.size(), 3U);
+  const World obstacle = generate_course(CourseKind::kObstacle, 3).world;
+  EXPECT_EQ(obstacle.gates.size(), 2U);
+  EXPECT_GE(obstacle.buoys.size(), 12U);
+  const World docking = generate_course(CourseKind::kDocking, 3).world;
+  ASSERT_EQ(docking.docks.size(), 3U);
+  int matches = 0;
+  for (const Dock& d : docking.docks) {
+    matches += (d.marker.colour == docking.target_colour && d.marker.shape == docking.target_shape);
+  }
+  EXPECT_EQ(matches, 1);
+  const World k2026 = generate_course(CourseKind::kKaboat2026, 3).world;
+  EXPECT_EQ(k2026.regions.size(), 3U);
+}
+
+TEST(Generator, RoundTripThroughTheYamlFile) {
+  for (CourseKind kind : kKinds) {
+    const Course original = generate_course(kind, 11);
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("coxswain_gen_" + std::string(course_kind_name(kind)) + ".yaml");
+    {
+      std::ofstream out(path);
+      out << to_course_yaml(original);
+    }
+    config::ConfigErrors errors;
+    Course loaded = load_course_file(path.string(), errors);
+    std::filesystem::remove(path);
+    ASSERT_TRUE(errors.empty()) << errors.format();
+    // Writing the loaded course gives the same text, except its source file name.
+    loaded.world.file.clear();
+    EXPECT_EQ(to_course_yaml(loaded), to_course_yaml(original));
+    ASSERT_EQ(loaded.world.buoys.size(), original.world.buoys.size());
+    for (std::size_t i = 0; i < loaded.world.buoys.size(); ++i) {
+      EXPECT_EQ(loaded.world.buoys[i].center.north_m, original.world.buoys[i].center.north_m);
+      EXPECT_EQ(loaded.world.buoys[i].center.east_m, original.world.buoys[i].center.east_m);
+    }
+    EXPECT_EQ(loaded.world.docks.size(), original.world.docks.size());
+  }
+}
+
+TEST(Clearance, AWallAcrossTheChannelMakesTheCourseUnsolvable) {
+  World w;
+  w.kind = CourseKind::kObstacle;
+  w.walls.push_back({{{-2, -4}, {-2, 4}, {30, 4}, {30, -4}, {-2, -4}}, 0.5});
+  w.gates.push_back({"finish", {25, -1}, {25, 1}});
+  std::string why;
+  EXPECT_TRUE(course_is_solvable(w, 0.8, 0.3, &why)) << why;
+  // A barrier with a 1.2 m gap: less than beam + 2 margins (1.4 m).
+  w.walls.push_back({{{12, -4}, {12, -0.6}}, 0.5});
+  w.walls.push_back({{{12, 0.6}, {12, 4}}, 0.5});
+  EXPECT_FALSE(course_is_solvable(w, 0.8, 0.3, &why));
+  EXPECT_NE(why.find("finish"), std::string::npos);
+  // A 1.8 m gap is wide enough.
+  w.walls[1].points[1] = {12, -0.9};
+  w.walls[2].points[0] = {12, 0.9};
+  EXPECT_TRUE(course_is_solvable(w, 0.8, 0.3, &why)) << why;
+}
+
+TEST(Clearance, NarrowDockIsRejected) {
+  World w;
+  w.kind = CourseKind::kDocking;
+  w.walls.push_back({{{-2, -5}, {-2, 5}, {20, 5}, {20, -5}, {-2, -5}}, 0.5});
+  Dock d;
+  d.name = "tight";
+  d.entrance = {15, 0};
+  d.width_m = 1.2;
+  build_dock_geometry(d);
+  w.docks.push_back(d);
+  std::string why;
+  EXPECT_FALSE(course_is_solvable(w, 0.8, 0.3, &why));
+  EXPECT_NE(why.find("narrower"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace coxswain::sim::world
