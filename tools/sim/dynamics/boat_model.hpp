@@ -90,6 +90,9 @@ class Disturbances {
   [[nodiscard]] double current_east_mps() const { return current_east_; }
   /// Wind velocity (where the air goes) in the navigation frame, mean plus gust.
   [[nodiscard]] std::array<double, 2> wind_ne_mps() const;
+  [[nodiscard]] bool has_wind() const {
+    return env_.wind_speed_mps > 0.0 || env_.gust_std_mps > 0.0;
+  }
   /// Wave-like body-frame force at time t_s (a sum of three seeded sinusoids per axis).
   [[nodiscard]] Tau wave_tau(double t_s) const;
 

@@ -19,14 +19,14 @@ struct DynamicsParams {
   double m11_kg = 18.47;           // surge mass incl. added mass
   double m22_kg = 35.10;           // sway mass incl. added mass
   double m66_kgm2 = 3.219;         // yaw inertia incl. added inertia
-  double d_u = 5.050;              // linear surge damping, N s/m
+  double d_u = 5.054;              // linear surge damping, N s/m
   double d_uu = 6.914;             // quadratic surge damping, N s^2/m^2
   double d_v = 45.31;              // linear sway damping, N s/m
   double d_vv = 71.96;             // quadratic (cross-flow) sway damping, N s^2/m^2
   double d_r = 4.156;              // linear yaw damping, N m s
   double d_rr = 32.23;             // quadratic yaw damping, N m s^2
   double thrust_fwd_max_n = 51.7;  // bollard thrust of the whole propulsion, forward
-  double thrust_rev_max_n = 28.8;  // and in reverse
+  double thrust_rev_max_n = 28.82;        // and in reverse
   double thrust_time_constant_s = 0.775;  // first-order lag from command to thrust
   double wind_area_front_m2 = 0.1008;     // above-water projected areas (wind forces)
   double wind_area_side_m2 = 0.288;
