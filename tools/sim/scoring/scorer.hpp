@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Judging a run against the contest rules. The boat is its hull outline (config hull length,
+// beam, bow overhang: a pentagon with a pointed bow), never a point:
+// - collisions: the outline touching a wall, buoy or dock; counted once per contact (a contact
+//   starts at touch and ends only after the hull is `release_m` clear again, so scraping along a
+//   wall is one collision);
+// - waypoints: the 2022 rule, at least half the hull's area inside the waypoint's circle
+//   (area sampled on a fixed grid); hopping and 2026 waypoints count only in order;
+// - gates: the centre of gravity crossing the gate segment left -> right in the course direction;
+// - docks: at least half the hull's area inside the slip;
+// - time limits per course region; penalties and bonuses of the year's rules (see Rules).
+// Not thread-safe; feed one run's truth states in time order.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "coxswain/config/config.hpp"
+#include "coxswain/msg/actuator_command.hpp"
+#include "sim/dynamics/boat_model.hpp"
+#include "sim/world/world.hpp"
+
+namespace coxswain::sim::scoring {
+
+/// Which rule book judges the run (from the course type).
+enum class Rules : std::uint8_t { k2022Hopping, k2022Obstacle, k2022Docking, k2026 };
+Rules rules_for(world::CourseKind kind);
+std::string_view rules_name(Rules rules);
+
+enum class ObstacleKind : std::uint8_t { kWall, kBuoy, kDock };
+
+/// The hull outline in the body frame: bow tip, starboard shoulder, starboard stern corner, port
+/// stern corner, port shoulder (the shoulders a quarter length aft of the bow tip).
+std::array<core::BodyPoint, 5> hull_outline_body(const config::HullConfig& hull);
+/// The outline placed at `pose` (pose of the body origin).
+std::array<core::NavPoint, 5> hull_outline(const config::HullConfig& hull,
+                                           const core::NavPose& pose);
+
+struct Contact {
+  double t_s = 0.0;
+  core::NavPoint at;  // the boat's centre of gravity at first touch
+  std::string obstacle;
+  ObstacleKind kind = ObstacleKind::kWall;
+  std::size_t course = 0;  // index of the course region the boat was in
+  bool penalised = true;
+};
+
+struct Passage {
+  std::string name;
+  double t_s = 0.0;
+  bool ok = true;  // gates: crossed in the right direction; docks: the target dock
+};
+
+struct CourseResult {
+  std::string name;
+  double start_s = 0.0;
+  double end_s = -1.0;  // -1 = not left / not finished
+  double time_limit_s = 0.0;
+  bool timed_out = false;
+  int collisions = 0;  // penalised collisions in this course
+  double penalty_s = 0.0;
+};
+
+struct ScoreResult {
+  std::string course;
+  Rules rules = Rules::k2022Hopping;
+  double elapsed_s = 0.0;  // run time until completion (or the end of the run)
+  bool completed = false;
+  bool timed_out = false;
+  std::vector<Contact> contacts;
+  std::vector<Passage> waypoints;
+  std::vector<Passage> gates;
+  std::vector<Passage> docks;
+  std::vector<CourseResult> courses;
+  int collisions = 0;  // penalised collisions
+  double penalty_s = 0.0;
+  bool recognised = false;  // 2026: the LED showed the target colour first
+  bool docked = false;      // entered the target dock (2022) / the dock (2026)
+  double bonus_points = 0.0;
+  double score_s = 0.0;  // elapsed + penalties: lower is better
+};
+
+nlohmann::json to_json(const ScoreResult& result);
+
+struct ScoringOptions {
+  double release_m = 0.05;  // a contact ends once the hull is this far clear again
+};
+
+class Scorer {
+ public:
+  Scorer(const world::World& world, const config::HullConfig& hull, ScoringOptions options = {});
+
+  /// Judges one truth state (call every dynamics step) and the LED the Arduino shows.
+  void update(const dynamics::TruthState& truth, msg::LedColour led);
+  /// True once the run is complete or out of time: the runner stops.
+  [[nodiscard]] bool done() const { return done_; }
+  /// The result so far (final after done() or at the end of the run).
+  [[nodiscard]] const ScoreResult& result() const { return result_; }
+  /// Distance from the hull outline at `pose` to obstacle i (<= 0 = touching), for tests.
+  [[nodiscard]] double clearance_m(std::size_t obstacle, const core::NavPose& pose) const;
+  [[nodiscard]] std::size_t obstacle_count() const { return obstacles_.size(); }
+
+ private:
+  struct Obstacle {
+    std::string name;
+    ObstacleKind kind;
+    std::vector<std::pair<core::NavPoint, core::NavPoint>> segments;
+    core::NavPoint center;  // buoys
+    double radius_m = 0.0;
+    bool in_contact = false;
+  };
+  [[nodiscard]] double fraction_inside(const core::NavPose& pose, const auto& inside) const;
+  void finish_course(std::size_t index, double t_s);
+  void conclude(double t_s);
+
+  const world::World* world_;
+  config::HullConfig hull_;
+  ScoringOptions options_;
+  std::vector<Obstacle> obstacles_;
+  std::vector<core::BodyPoint> samples_;  // grid over the hull area
+  ScoreResult result_;
+  std::size_t next_waypoint_ = 0;
+  std::size_t next_gate_ = 0;
+  std::size_t course_ = 0;
+  bool have_prev_ = false;
+  core::NavPoint prev_cg_;
+  bool led_decided_ = false;
+  bool done_ = false;
+};
+
+/// An SVG picture of a run: regions, walls, docks (target marked), buoys in their colours, gates,
+/// waypoint circles (filled when reached), the path, contacts as red crosses, the final hull.
+/// `path` holds body-origin poses in time order (any decimation).
+std::string trajectory_svg(const world::World& world, const config::HullConfig& hull,
+                           const std::vector<core::NavPose>& path, const ScoreResult* result);
+
+}  // namespace coxswain::sim::scoring
