@@ -210,7 +210,9 @@ Course load_course_file(const std::string& path, ConfigErrors& errors) {
   if (!root.valid()) return course;
   const auto kind = root.require<std::string>("kind");
   if (!kind.empty() && kind != "course") {
+    // Another kind of config file: its keys would only add noise.
     root.error("kind", "must be 'course' in this file, got '" + kind + "'");
+    return course;
   }
   const std::size_t errors_before = errors.size();
   w.name = root.require<std::string>("name");

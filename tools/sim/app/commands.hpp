@@ -1,0 +1,13 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Subcommand groups of coxswain-sim. Each adds its subcommands to `app`; a subcommand's callback
+// stores the process exit code in `exit_code` (0 = success).
+#include <CLI/CLI.hpp>
+
+namespace coxswain::sim::app {
+
+/// `course check FILE...`, `course generate --kind K --seed N -o FILE`, `course svg FILE -o OUT`,
+/// `course drive FILE --servo-us S --thrust-us T --seconds N [--json OUT] [--svg OUT]`.
+void add_course_commands(CLI::App& app, int& exit_code);
+
+}  // namespace coxswain::sim::app

@@ -1,0 +1,16 @@
+// SPDX-License-Identifier: Apache-2.0
+// coxswain-sim: check, generate and draw course files; drive the simulated boat with fixed
+// commands. The mission runs (`run`, `batch`) register here the same way once the mission core
+// is wired in.
+#include <CLI/CLI.hpp>
+
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"coxswain-sim: the coxswain simulator (courses, boat dynamics, scoring)"};
+  app.require_subcommand(1);
+  int exit_code = 0;
+  coxswain::sim::app::add_course_commands(app, exit_code);
+  CLI11_PARSE(app, argc, argv);
+  return exit_code;
+}
