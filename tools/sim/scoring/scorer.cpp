@@ -51,8 +51,7 @@ bool colour_matches(msg::LedColour led, msg::Colour colour) {
 
 // Distance from a convex-or-not outline to a segment (0 when they touch or the segment is inside).
 double outline_segment_distance(const std::array<NavPoint, 5>& hull, NavPoint a, NavPoint b) {
-  const std::vector<NavPoint> poly(hull.begin(), hull.end());
-  if (world::point_in_polygon(a, poly) || world::point_in_polygon(b, poly)) return 0.0;
+  if (world::point_in_polygon(a, hull) || world::point_in_polygon(b, hull)) return 0.0;
   double d = 1e300;
   for (std::size_t i = 0; i < hull.size(); ++i) {
     d = std::min(d, world::segment_segment_distance(hull[i], hull[(i + 1) % hull.size()], a, b));
@@ -61,8 +60,7 @@ double outline_segment_distance(const std::array<NavPoint, 5>& hull, NavPoint a,
 }
 
 double outline_circle_distance(const std::array<NavPoint, 5>& hull, NavPoint c, double r) {
-  const std::vector<NavPoint> poly(hull.begin(), hull.end());
-  if (world::point_in_polygon(c, poly)) return -r;
+  if (world::point_in_polygon(c, hull)) return -r;
   double d = 1e300;
   for (std::size_t i = 0; i < hull.size(); ++i) {
     d = std::min(d, world::point_segment_distance(c, hull[i], hull[(i + 1) % hull.size()]));

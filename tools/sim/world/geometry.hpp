@@ -66,8 +66,10 @@ inline double segment_segment_distance(core::NavPoint p1, core::NavPoint p2, cor
                    point_segment_distance(q1, p1, p2), point_segment_distance(q2, p1, p2)});
 }
 
-/// Even-odd point-in-polygon (polygon closed implicitly).
-inline bool point_in_polygon(core::NavPoint p, const std::vector<core::NavPoint>& poly) {
+/// Even-odd point-in-polygon (polygon closed implicitly): any random-access container of
+/// NavPoint (vector, array).
+template <class Polygon>
+bool point_in_polygon(core::NavPoint p, const Polygon& poly) {
   bool inside = false;
   const std::size_t n = poly.size();
   for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
