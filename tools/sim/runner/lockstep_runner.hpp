@@ -63,6 +63,8 @@ class LockstepRunner {
   /// reach the firmware, whose failsafe then neutralises the outputs after failsafe_ms.
   void set_command_link(bool up) { link_up_ = up; }
 
+  [[nodiscard]] const world::Course& course() const { return *course_; }
+  [[nodiscard]] const config::BoatConfig& boat_config() const { return boat_; }
   [[nodiscard]] core::TimeNs now_ns() const { return clock_.now_ns(); }
   [[nodiscard]] const core::ManualClock& clock() const { return clock_; }
   [[nodiscard]] core::LatestStore& store() { return *store_; }

@@ -263,7 +263,9 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
          b.center.east_m + reach,
          [&](NavPoint p) { return core::distance_m(p, b.center) < reach; });
   }
-  for (const auto& [a, b] : segments) {
+  for (const auto& segment : segments) {
+    const NavPoint a = segment.first;  // clang 14 cannot capture structured bindings
+    const NavPoint b = segment.second;
     mark(std::min(a.north_m, b.north_m) - inflate, std::max(a.north_m, b.north_m) + inflate,
          std::min(a.east_m, b.east_m) - inflate, std::max(a.east_m, b.east_m) + inflate,
          [&](NavPoint p) { return point_segment_distance(p, a, b) < inflate; });

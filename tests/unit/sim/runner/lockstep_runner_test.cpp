@@ -174,15 +174,15 @@ TEST(LockstepRunner, HeadingHoldOnTheSimulatedImuTurnsAndHolds) {
 // A waypoint follower on the simulated GNSS and IMU: bearing to the next waypoint, heading P.
 class WaypointPilot final : public Pilot {
  public:
-  WaypointPilot(const world::World& world, const config::BoatConfig& boat)
-      : frame_(world.origin), waypoints_(world.waypoints), gnss_x_m_(boat.mounts.gnss.x_m) {}
+  explicit WaypointPilot(const world::World& world)
+      : frame_(world.origin), waypoints_(world.waypoints) {}
   void step(const core::Snapshot& s, core::TimeNs /*now_ns*/, msg::ActuatorCommand& out) override {
     out.active = true;
     out.pulse_us = {1500, 1500};
     if (!s.imu.valid() || !s.gnss.valid() || next_ >= waypoints_.size()) return;
     const double heading = s.imu.value.heading_deg;
     const core::NavPoint antenna = frame_.to_nav({s.gnss.value.lat_deg, s.gnss.value.lon_deg, 0.0});
-    // The boat's middle (the GNSS sits at mid-length).
+    // The GNSS sits at mid-length (boat.yaml): steer the boat's middle onto the waypoint.
     const core::NavPoint middle = antenna;
     const core::NavPoint goal = waypoints_[next_].position;
     if (core::distance_m(middle, goal) < 0.8) ++next_;
@@ -200,14 +200,13 @@ class WaypointPilot final : public Pilot {
  private:
   core::LocalFrame frame_;
   std::vector<world::Waypoint> waypoints_;
-  double gnss_x_m_;
   std::size_t next_ = 0;
 };
 
 TEST(LockstepRunner, WaypointFollowerCompletesTheShippedHoppingTour) {
   const world::Course course = shipped("kaboat2022_hopping.yaml");
   const config::BoatConfig boat;
-  WaypointPilot pilot(course.world, boat);
+  WaypointPilot pilot(course.world);
   IdealSensorSuite sensors(course.world.origin, boat);
   RunnerOptions options;
   LockstepRunner runner(course, boat, options, &sensors, &pilot);
