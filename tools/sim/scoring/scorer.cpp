@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coxswain/core/angles.hpp"
 #include "coxswain/core/time.hpp"
 #include "sim/world/geometry.hpp"
 
@@ -154,6 +155,12 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
       if (world::point_in_polygon({p.forward_m, p.starboard_m}, poly)) samples_.push_back(p);
     }
   }
+  for (std::size_t i = 0; i < world.buoys.size() && result_.rules == Rules::k2026; ++i) {
+    if (world.buoys[i].colour == msg::Colour::kPurple) {
+      purple_ = static_cast<int>(i);
+      break;
+    }
+  }
   if (world.regions.empty()) {
     result_.courses.push_back({world.name, 0.0, -1.0, 0.0, false, 0, 0.0});
   } else {
@@ -296,6 +303,17 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
     }
   }
 
+  // 2026 buoy circling: sum the turns of the bearing from the buoy to the boat.
+  if (purple_ >= 0) {
+    const double bearing = core::bearing_deg(w.buoys[static_cast<std::size_t>(purple_)].center, cg);
+    if (have_bearing_) {
+      result_.buoy_circled_deg += core::angle_diff_deg(bearing, purple_bearing_deg_);
+      if (std::abs(result_.buoy_circled_deg) >= 360.0) result_.circled = true;
+    }
+    purple_bearing_deg_ = bearing;
+    have_bearing_ = true;
+  }
+
   // 2026 object recognition: the first colour the LED shows decides.
   if (result_.rules == Rules::k2026 && !led_decided_ && led != msg::LedColour::kOff) {
     led_decided_ = true;
@@ -342,6 +360,8 @@ nlohmann::json to_json(const ScoreResult& r) {
   j["penalty_s"] = r.penalty_s;
   j["score_s"] = r.score_s;
   j["recognised"] = r.recognised;
+  j["circled"] = r.circled;
+  j["buoy_circled_deg"] = r.buoy_circled_deg;
   j["docked"] = r.docked;
   j["bonus_points"] = r.bonus_points;
   auto kind_name = [](ObstacleKind k) {

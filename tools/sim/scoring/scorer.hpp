@@ -9,7 +9,8 @@
 //   (area sampled on a fixed grid); hopping and 2026 waypoints count only in order;
 // - gates: the centre of gravity crossing the gate segment left -> right in the course direction;
 // - docks: at least half the hull's area inside the slip;
-// - time limits per course region; penalties and bonuses of the year's rules (see Rules).
+// - time limits per course region; penalties and bonuses of the year's rules (see Rules);
+// - 2026: the angle the centre of gravity sweeps around the purple buoy (a full turn = circled).
 // Not thread-safe; feed one run's truth states in time order.
 #include <array>
 #include <string>
@@ -76,8 +77,10 @@ struct ScoreResult {
   std::vector<CourseResult> courses;
   int collisions = 0;  // penalised collisions
   double penalty_s = 0.0;
-  bool recognised = false;  // 2026: the LED showed the target colour first
-  bool docked = false;      // entered the target dock (2022) / the dock (2026)
+  bool recognised = false;        // 2026: the LED showed the target colour first
+  double buoy_circled_deg = 0.0;  // 2026: angle swept around the purple buoy (+ clockwise)
+  bool circled = false;           // 2026: a full turn around the purple buoy
+  bool docked = false;            // entered the target dock (2022) / the dock (2026)
   double bonus_points = 0.0;
   double score_s = 0.0;  // elapsed + penalties: lower is better
 };
@@ -127,6 +130,9 @@ class Scorer {
   bool have_prev_ = false;
   core::NavPoint prev_cg_;
   bool led_decided_ = false;
+  int purple_ = -1;  // index of the 2026 purple buoy, -1 = none
+  double purple_bearing_deg_ = 0.0;
+  bool have_bearing_ = false;
   bool done_ = false;
 };
 

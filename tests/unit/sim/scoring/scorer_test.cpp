@@ -269,6 +269,29 @@ TEST(Scorer, Kaboat2026WrongColourFirstIsNotRecognisedAndCourseTimeLimitHolds) {
   EXPECT_TRUE(s.result().courses[0].timed_out);
 }
 
+TEST(Scorer, Kaboat2026CountsAFullTurnAroundThePurpleBuoy) {
+  world::World w = kaboat2026_world();
+  world::Buoy purple;
+  purple.center = {30.0, 0.0};
+  purple.radius_m = 0.3;
+  purple.colour = msg::Colour::kPurple;
+  w.buoys.push_back(purple);
+  Scorer s(w, hull());
+  // Counter-clockwise (buoy kept to port) on a 3 m circle, in 10 deg steps: 350 deg is not yet
+  // a turn, 370 deg is.
+  auto put = [&](int k) {
+    const double a = -10.0 * k * M_PI / 180.0;
+    const NavPose p{{30.0 + 3.0 * std::cos(a), 3.0 * std::sin(a)}, 0.0};
+    s.update(at(40.0 + 0.1 * k, p), {});
+  };
+  for (int k = 0; k <= 35; ++k) put(k);
+  EXPECT_FALSE(s.result().circled);
+  put(36);
+  put(37);
+  EXPECT_TRUE(s.result().circled);
+  EXPECT_LT(s.result().buoy_circled_deg, -360.0);
+}
+
 TEST(Svg, DrawsCoursePathCollisionsAndWaypoints) {
   world::World w = obstacle_world();
   w.waypoints.push_back({"wp", {15.0, 0.0}, 2.0});
