@@ -142,11 +142,18 @@ CameraSim::CameraSim(const CameraSimConfig& config, const world::World& world)
   build_background();
 
   if (config_.noise_sigma > 0.0) {
+    // Signed noise kept as its positive and negative parts (8-bit each), so applying it is two
+    // saturating 8-bit operations instead of a mixed-type add.
     cv::RNG cv_rng(rng_.next_u64());
+    cv::Mat n(config_.height_px, config_.width_px, CV_16SC3);
     for (int i = 0; i < kNoiseFrames; ++i) {
-      cv::Mat n(config_.height_px, config_.width_px, CV_16SC3);
       cv_rng.fill(n, cv::RNG::NORMAL, cv::Scalar::all(0), cv::Scalar::all(config_.noise_sigma));
-      noise_frames_.push_back(n);
+      cv::Mat pos;
+      cv::Mat neg;
+      n.convertTo(pos, CV_8U);        // saturates negatives to 0
+      n.convertTo(neg, CV_8U, -1.0);  // the negative part, as a positive amount
+      noise_frames_.push_back(pos);
+      noise_frames_.push_back(neg);
     }
   }
   if (config_.glare && config_.sun_blob_radius_px > 0.0) {
@@ -343,8 +350,9 @@ void CameraSim::apply_effects(const core::NavPose& pose, cv::Mat& img) {
     cv::GaussianBlur(img, img, cv::Size(config_.blur_kernel_px, config_.blur_kernel_px), 0.0);
   }
   if (!noise_frames_.empty()) {
-    const auto k = static_cast<std::size_t>(rng_.next_u64() % noise_frames_.size());
-    cv::add(img, noise_frames_[k], img, cv::noArray(), CV_8U);
+    const auto k = 2 * static_cast<std::size_t>(rng_.next_u64() % (noise_frames_.size() / 2));
+    cv::add(img, noise_frames_[k], img);
+    cv::subtract(img, noise_frames_[k + 1], img);
   }
 }
 

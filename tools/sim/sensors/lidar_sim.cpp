@@ -85,7 +85,6 @@ std::string LidarSimConfig::validate() const {
     return "lidar mount must be finite";
   }
   if (!std::isfinite(seam_body_deg)) return "lidar seam_body_deg must be finite";
-  if (!(max_speed_mps > 0.0 && max_speed_mps <= 50.0)) return "lidar max_speed_mps in (0, 50]";
   return {};
 }
 
@@ -103,6 +102,8 @@ drivers::rplidar::HqNode RawBeam::to_hq() const {
 }
 
 namespace {
+constexpr double kMinBinRadiusM = 0.1;
+
 drivers::rplidar::ScanAssemblerParams assembler_params(const LidarSimConfig& c) {
   drivers::rplidar::ScanAssemblerParams p;
   p.mount = c.mount;
@@ -145,12 +146,19 @@ double LidarSim::beam_world_bearing_deg(double heading_deg, double lidar_deg) co
   return heading_deg + config_.mount.yaw_deg + sensor_cw_deg;
 }
 
-void LidarSim::ensure_bins(core::NavPoint a, core::NavPoint b) {
+void LidarSim::ensure_bins(core::NavPoint a, core::NavPoint b, double span_s) {
   if (scene_.covers(a) && scene_.covers(b)) return;
-  const double travel = config_.max_speed_mps / config_.rate_hz;
-  const core::NavPoint mid{0.5 * (a.north_m + b.north_m), 0.5 * (a.east_m + b.east_m)};
-  const double radius = std::max(travel, 0.5 * core::distance_m(a, b) + 0.05);
-  scene_.prepare(mid, radius, config_.max_range_m);
+  // Centre the region ahead of the boat by half a revolution's travel at its current speed, so
+  // one preparation lasts about a revolution; small regions keep the bins short.
+  const double step = core::distance_m(a, b);
+  const double speed = span_s > 0.0 ? step / span_s : 0.0;
+  const double travel = speed / config_.rate_hz;
+  const double ahead = step > 1e-9 ? 0.5 * travel / step : 0.0;
+  const core::NavPoint center{b.north_m + ahead * (b.north_m - a.north_m),
+                              b.east_m + ahead * (b.east_m - a.east_m)};
+  const double radius =
+      std::max({kMinBinRadiusM, 0.5 * travel + 0.02, core::distance_m(center, a) + 0.02});
+  scene_.prepare(center, radius, config_.max_range_m);
 }
 
 double LidarSim::true_range_m(const core::NavPose& pose, double lidar_deg) {
@@ -166,11 +174,22 @@ LidarUpdate LidarSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
   const core::MountTransform& m = config_.mount;
   const core::NavPoint from = core::body_to_nav(last_truth_.pose, {m.x_m, m.y_m});
   const core::NavPoint to = core::body_to_nav(truth.pose, {m.x_m, m.y_m});
-  ensure_bins(from, to);
+  ensure_bins(from, to, core::ns_to_sec(now_ns - last_ns_));
   const double span_ns = static_cast<double>(now_ns - last_ns_);
   const double turn_deg = core::wrap_deg(truth.pose.heading_deg - last_truth_.pose.heading_deg);
   const double lo_range = config_.min_range_m;
   const double hi_range = config_.max_range_m;
+  // Within one update the beam's world bearing grows linearly with its index (lidar rotation
+  // plus the interpolated turn), so its direction is stepped by a fixed rotation rather than a
+  // sincos per beam; it is re-anchored every update so rounding never accumulates.
+  bool anchored = false;
+  double bearing_360 = 0.0;
+  double dir_n = 1.0;
+  double dir_e = 0.0;
+  double step_cos = 1.0;
+  double step_sin = 0.0;
+  double step_deg = 0.0;
+  const double sign = config_.clockwise ? 1.0 : -1.0;
   for (;;) {
     const core::TimeNs t_ns =
         origin_ns_ +
@@ -179,11 +198,28 @@ LidarUpdate LidarSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
     const double f = static_cast<double>(t_ns - last_ns_) / span_ns;
     const core::NavPoint origin{from.north_m + f * (to.north_m - from.north_m),
                                 from.east_m + f * (to.east_m - from.east_m)};
-    const double heading_deg = last_truth_.pose.heading_deg + f * turn_deg;
     const auto index = static_cast<int>(next_beam_ % static_cast<std::uint64_t>(beams_per_rev_));
     const double lidar_deg = static_cast<double>(index) * 360.0 / beams_per_rev_;
+    if (!anchored) {
+      anchored = true;
+      const double heading_deg = last_truth_.pose.heading_deg + f * turn_deg;
+      bearing_360 = core::wrap_deg_360(beam_world_bearing_deg(heading_deg, lidar_deg));
+      const double rad = core::deg_to_rad(bearing_360);
+      dir_n = std::cos(rad);
+      dir_e = std::sin(rad);
+      step_deg = sign * 360.0 / beams_per_rev_ + turn_deg * sample_ns_ / span_ns;
+      step_cos = std::cos(core::deg_to_rad(step_deg));
+      step_sin = std::sin(core::deg_to_rad(step_deg));
+    } else {
+      bearing_360 += step_deg;
+      if (bearing_360 >= 360.0) bearing_360 -= 360.0;
+      if (bearing_360 < 0.0) bearing_360 += 360.0;
+      const double n = dir_n * step_cos - dir_e * step_sin;
+      dir_e = dir_n * step_sin + dir_e * step_cos;
+      dir_n = n;
+    }
 
-    double range = scene_.cast(origin, beam_world_bearing_deg(heading_deg, lidar_deg));
+    double range = scene_.cast(origin, bearing_360, dir_n, dir_e);
     if (range >= 0.0) {
       range += rng_.normal(config_.range_sigma_m + config_.range_sigma_fraction * range);
     }

@@ -43,9 +43,6 @@ struct LidarSimConfig {
   core::MountTransform mount{180.0, 0.0, 0.0};
   bool clockwise = true;         // lidar angle grows clockwise seen from above
   double seam_body_deg = 180.0;  // where the driver cuts revolutions (ScanAssembler)
-  /// Fastest the boat moves; bounds how far it travels during one revolution, which the ray
-  /// bins are padded for (they are rebuilt anyway when the boat leaves the padded region).
-  double max_speed_mps = 5.0;
   std::uint64_t seed = 1;
 
   /// Figures of `model` (rate, step, ranges); the other fields keep their defaults.
@@ -102,7 +99,7 @@ class LidarSim {
 
  private:
   [[nodiscard]] double beam_world_bearing_deg(double heading_deg, double lidar_deg) const;
-  void ensure_bins(core::NavPoint a, core::NavPoint b);
+  void ensure_bins(core::NavPoint a, core::NavPoint b, double span_s);
 
   LidarSimConfig config_;
   RayScene scene_;

@@ -132,10 +132,11 @@ bool RayScene::covers(core::NavPoint p) const {
 
 double RayScene::cast(core::NavPoint origin, double bearing_deg) const {
   const double rad = core::deg_to_rad(bearing_deg);
-  const double dn = std::cos(rad);
-  const double de = std::sin(rad);
-  auto bin = static_cast<int>(core::wrap_deg_360(bearing_deg) / kBinDeg);
-  bin = std::clamp(bin, 0, kBins - 1);
+  return cast(origin, core::wrap_deg_360(bearing_deg), std::cos(rad), std::sin(rad));
+}
+
+double RayScene::cast(core::NavPoint origin, double bearing_360_deg, double dn, double de) const {
+  const int bin = std::clamp(static_cast<int>(bearing_360_deg / kBinDeg), 0, kBins - 1);
   double best = -1.0;
   for (const std::uint32_t tagged : bins_[static_cast<std::size_t>(bin)]) {
     const double t = (tagged & kCircleTag) != 0U

@@ -43,6 +43,10 @@ class RayScene {
   /// `bearing_deg`, or a negative value when nothing lies within the prepared max range.
   /// `origin` must be covered (see covers()).
   [[nodiscard]] double cast(core::NavPoint origin, double bearing_deg) const;
+  /// Same with the bearing already in [0, 360) and its direction (cos, sin) given, for callers
+  /// that step the direction incrementally.
+  [[nodiscard]] double cast(core::NavPoint origin, double bearing_360_deg, double dn,
+                            double de) const;
   /// Same without bins, testing every object: the reference for tests.
   [[nodiscard]] double cast_brute(core::NavPoint origin, double bearing_deg,
                                   double max_range_m) const;

@@ -57,7 +57,6 @@ LidarSimConfig read_lidar(MapReader& r, std::uint64_t seed) {
   c.mount = read_mount(r, c.mount);
   c.clockwise = r.get<bool>("clockwise", c.clockwise);
   c.seam_body_deg = r.get<double>("seam_body_deg", c.seam_body_deg);
-  c.max_speed_mps = r.get<double>("max_speed_mps", c.max_speed_mps);
   c.seed = read_seed(r, seed);
   check(r, c.validate());
   r.finish();
