@@ -54,7 +54,7 @@ BoatTruth truth_at(double t_s) {
   b.pose.heading_deg = psi_deg;
   b.yaw_rate_dps = 35.0 * 0.15 * std::cos(0.15 * t_s);
   const double n = std::fmod(1.5 * t_s, 45.0);
-  b.pose.position = {n, 4.0 * std::sin(0.15 * t_s)};
+  b.pose.position = {n, 1.2 * std::sin(0.15 * t_s)};  // between the buoy rows
   b.surge_mps = 1.5;
   b.vel_north_mps = 1.5 * std::cos(core::deg_to_rad(psi_deg));
   b.vel_east_mps = 1.5 * std::sin(core::deg_to_rad(psi_deg));

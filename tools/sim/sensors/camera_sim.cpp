@@ -299,10 +299,9 @@ void CameraSim::draw_marker(const View& v, const world::Marker& m, cv::Mat& img)
   if (!project_polygon(poly3_, poly2_)) return;
   cv::fillConvexPoly(img, poly2_, front ? kPlacardFront : kPlacardBack, cv::LINE_8, 4);
   if (!front) return;
-  static thread_local std::vector<cv::Point2d> local;
-  glyph(m.shape, m.size_m, local);
+  glyph(m.shape, m.size_m, glyph_);
   poly3_.clear();
-  for (const cv::Point2d& p : local) poly3_.push_back(corner(p.x, p.y));
+  for (const cv::Point2d& p : glyph_) poly3_.push_back(corner(p.x, p.y));
   if (!project_polygon(poly3_, poly2_)) return;
   const cv::Point* pts = poly2_.data();
   const int count = static_cast<int>(poly2_.size());

@@ -115,6 +115,7 @@ class CameraSim {
   std::vector<Vec3> poly3_;
   std::vector<Vec3> clipped_;
   std::vector<cv::Point> poly2_;
+  std::vector<cv::Point2d> glyph_;
   core::TimeNs last_frame_ns_ = core::kNeverNs;
   core::TimeNs period_ns_ = 0;
 };

@@ -147,21 +147,25 @@ double LidarSim::beam_world_bearing_deg(double heading_deg, double lidar_deg) co
 }
 
 void LidarSim::ensure_bins(core::NavPoint a, core::NavPoint b, double span_s) {
-  if (scene_.covers(a) && scene_.covers(b)) return;
   // Centre the region ahead of the boat by half a revolution's travel at its current speed, so
   // one preparation lasts about a revolution; small regions keep the bins short.
   const double step = core::distance_m(a, b);
   const double speed = span_s > 0.0 ? step / span_s : 0.0;
   const double travel = speed / config_.rate_hz;
+  const double needed = std::max(kMinBinRadiusM, 0.5 * travel + 0.02);
+  // Keep the bins while they cover this step and are not much wider than needed (a jump of the
+  // boat, e.g. a simulation reset, needs one wide region; the next step shrinks it again).
+  if (scene_.covers(a) && scene_.covers(b) && scene_.prepared_radius_m() <= 4.0 * needed + 0.1) {
+    return;
+  }
   const double ahead = step > 1e-9 ? 0.5 * travel / step : 0.0;
   const core::NavPoint center{b.north_m + ahead * (b.north_m - a.north_m),
                               b.east_m + ahead * (b.east_m - a.east_m)};
-  const double radius =
-      std::max({kMinBinRadiusM, 0.5 * travel + 0.02, core::distance_m(center, a) + 0.02});
+  const double radius = std::max(needed, core::distance_m(center, a) + 0.02);
   scene_.prepare(center, radius, config_.max_range_m);
 }
 
-double LidarSim::true_range_m(const core::NavPose& pose, double lidar_deg) {
+double LidarSim::true_range_m(const core::NavPose& pose, double lidar_deg) const {
   const core::NavPoint origin = core::body_to_nav(pose, {config_.mount.x_m, config_.mount.y_m});
   return scene_.cast_brute(origin, beam_world_bearing_deg(pose.heading_deg, lidar_deg),
                            config_.max_range_m);
@@ -191,9 +195,9 @@ LidarUpdate LidarSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
   double step_deg = 0.0;
   const double sign = config_.clockwise ? 1.0 : -1.0;
   for (;;) {
+    // Beam times are non-negative offsets: truncating x + 0.5 rounds them to the nanosecond.
     const core::TimeNs t_ns =
-        origin_ns_ +
-        static_cast<core::TimeNs>(std::llround(static_cast<double>(next_beam_) * sample_ns_));
+        origin_ns_ + static_cast<core::TimeNs>(static_cast<double>(next_beam_) * sample_ns_ + 0.5);
     if (t_ns > now_ns) break;
     const double f = static_cast<double>(t_ns - last_ns_) / span_ns;
     const core::NavPoint origin{from.north_m + f * (to.north_m - from.north_m),
@@ -223,8 +227,11 @@ LidarUpdate LidarSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
     if (range >= 0.0) {
       range += rng_.normal(config_.range_sigma_m + config_.range_sigma_fraction * range);
     }
-    if (rng_.chance(config_.dropout_probability)) range = -1.0;
-    if (rng_.chance(config_.spurious_probability)) {
+    // One draw decides the beam's fate: dropout, a spurious near echo, or the true return.
+    const double fate = rng_.uniform();
+    if (fate < config_.dropout_probability) {
+      range = -1.0;
+    } else if (fate < config_.dropout_probability + config_.spurious_probability) {
       range = rng_.uniform(lo_range, config_.spurious_max_range_m);
     }
     RawBeam beam;

@@ -95,7 +95,7 @@ class LidarSim {
 
   /// Sensor-frame range the lidar sees along its own angle `lidar_deg` from `pose`, no noise;
   /// negative when nothing is in range. For tests and the emulator.
-  [[nodiscard]] double true_range_m(const core::NavPose& pose, double lidar_deg);
+  [[nodiscard]] double true_range_m(const core::NavPose& pose, double lidar_deg) const;
 
  private:
   [[nodiscard]] double beam_world_bearing_deg(double heading_deg, double lidar_deg) const;

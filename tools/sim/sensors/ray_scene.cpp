@@ -126,6 +126,12 @@ void RayScene::prepare(core::NavPoint center, double radius_m, double max_range_
   }
 }
 
+std::size_t RayScene::bin_entries() const {
+  std::size_t n = 0;
+  for (const auto& bin : bins_) n += bin.size();
+  return n;
+}
+
 bool RayScene::covers(core::NavPoint p) const {
   return radius_m_ >= 0.0 && core::distance_m(p, center_) <= radius_m_;
 }

@@ -39,6 +39,10 @@ class RayScene {
   void prepare(core::NavPoint center, double radius_m, double max_range_m);
   /// True while `p` lies within the prepared region.
   [[nodiscard]] bool covers(core::NavPoint p) const;
+  /// Radius of the prepared region; negative when not prepared.
+  [[nodiscard]] double prepared_radius_m() const { return radius_m_; }
+  /// Object entries over all bins of the last prepare() (its cost, and how much each ray tests).
+  [[nodiscard]] std::size_t bin_entries() const;
   /// Distance to the first object along the ray from `origin` at navigation bearing
   /// `bearing_deg`, or a negative value when nothing lies within the prepared max range.
   /// `origin` must be covered (see covers()).

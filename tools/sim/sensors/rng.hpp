@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Deterministic random numbers for the simulated sensors: splitmix64 for the bits, Box-Muller for
-// normals. Written out here (not <random> distributions) so a seed gives the same numbers with
-// every standard library and compiler. Not thread-safe; one generator per sensor.
+// normals (polar form). Written out here (not <random> distributions) so a seed gives the same
+// numbers with every standard library and compiler. Not thread-safe; one generator per sensor.
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 namespace coxswain::sim::sensors {
 
@@ -25,20 +24,25 @@ class Rng {
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   /// True with probability p.
   bool chance(double p) { return p > 0.0 && uniform() < p; }
-  /// Standard normal (Box-Muller; the second value of each pair is kept for the next call).
+  /// Standard normal (Marsaglia's polar form of Box-Muller: no sin/cos; the second value of each
+  /// pair is kept for the next call).
   double normal() {
     if (have_spare_) {
       have_spare_ = false;
       return spare_;
     }
-    double u1 = uniform();
-    while (u1 <= 0.0) u1 = uniform();
-    const double u2 = uniform();
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    const double a = 2.0 * std::numbers::pi * u2;
-    spare_ = r * std::sin(a);
+    double u = 0.0;
+    double v = 0.0;
+    double s = 0.0;
+    do {
+      u = 2.0 * uniform() - 1.0;
+      v = 2.0 * uniform() - 1.0;
+      s = u * u + v * v;
+    } while (s >= 1.0 || s == 0.0);
+    const double f = std::sqrt(-2.0 * std::log(s) / s);
+    spare_ = v * f;
     have_spare_ = true;
-    return r * std::cos(a);
+    return u * f;
   }
   double normal(double sigma) { return sigma * normal(); }
   /// Exponential with the given mean (waiting times of Poisson events).

@@ -158,6 +158,31 @@ TEST(CameraSim, GlareWashesOutBlurAndNoiseAreSeeded) {
   EXPECT_GT(cv::norm(a, a2, cv::NORM_INF), 0.0);
 }
 
+TEST(CameraSim, ModerateGlareStillDetectedSevereGlareWashesColoursOut) {
+  // mission.md section 2: strong sun washes colours out. The default HSV floors are set for
+  // moderately washed-out colours; a near-grey image must lose them.
+  const world::World w = dock_world(4.0, 0.5, msg::Colour::kRed, msg::Shape::kTriangle);
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  perception::MarkerDetector detector;
+  msg::CameraDetections out;
+  cv::Mat frame;
+  CameraSimConfig c = plain_config();
+  c.glare = true;
+  c.sun_bearing_deg = -25.0;
+  c.glare_gain = 1.3;
+  c.glare_saturation_loss = 0.3;
+  CameraSim moderate(c, w);
+  moderate.render(pose, frame);
+  ASSERT_TRUE(detector.detect(frame, 0, out));
+  EXPECT_TRUE(perception::find_target(out, msg::Colour::kRed, msg::Shape::kTriangle).has_value());
+  c.glare_gain = 1.8;
+  c.glare_saturation_loss = 0.85;
+  CameraSim severe(c, w);
+  severe.render(pose, frame);
+  ASSERT_TRUE(detector.detect(frame, 0, out));
+  EXPECT_FALSE(perception::find_target(out, msg::Colour::kRed, msg::Shape::kTriangle).has_value());
+}
+
 TEST(CameraSim, FramesAtItsRate) {
   CameraSimConfig c = plain_config();
   c.rate_hz = 15.0;
