@@ -179,6 +179,12 @@ SensorConfig load_sensor_config(MapReader& reader) {
   return c;
 }
 
+SensorConfig load_sensor_config(const YAML::Node& node, const std::string& file,
+                                config::ConfigErrors& errors) {
+  MapReader reader(node, file, "sensors", errors);
+  return load_sensor_config(reader);
+}
+
 std::optional<SensorConfig> load_sensor_config_file(const std::string& path,
                                                     config::ConfigErrors& errors) {
   const std::optional<YAML::Node> root = config::load_yaml_file(path, errors);

@@ -28,6 +28,9 @@ struct SensorConfig {
 /// optional, defaults as in the structs). Problems are added to reader.errors(); unknown keys are
 /// reported. Per-sensor seeds are derived from `seed` unless a sensor sets its own.
 SensorConfig load_sensor_config(config::MapReader& reader);
+/// Same from the node of a `sensors:` block; `file` names it in error messages. Calls finish().
+SensorConfig load_sensor_config(const YAML::Node& node, const std::string& file,
+                                config::ConfigErrors& errors);
 /// Loads `sensors:` from a YAML file (the block at the top level under key `sensors`); nullopt
 /// and `errors` filled when anything is wrong.
 std::optional<SensorConfig> load_sensor_config_file(const std::string& path,

@@ -203,7 +203,7 @@ TEST(LidarSim, NoiseDropoutsAndSpuriousReturnsAtTheirRates) {
         ++near;
         continue;
       }
-      const double truth_m = sim.true_range_m(truth.pose, b.angle_deg);
+      const double truth_m = sim.true_range_m(truth.pose, static_cast<double>(b.angle_deg));
       const double err = static_cast<double>(b.range_m) - truth_m;
       sum_err2 += err * err;
       ++n_err;

@@ -50,5 +50,33 @@ TEST(SensorConfig, ErrorsNameTheKeyAndLine) {
   EXPECT_DOUBLE_EQ(c.lidar.max_range_m, 25.0);
 }
 
+TEST(SensorConfig, NodeOverloadAndDefaults) {
+  config::ConfigErrors errors;
+  const SensorConfig c =
+      load_sensor_config(YAML::Load("seed: 9\nimu: {rate_hz: 50}\n"), "inline.yaml", errors);
+  EXPECT_TRUE(errors.empty()) << errors.format();
+  EXPECT_EQ(c.seed, 9U);
+  EXPECT_DOUBLE_EQ(c.imu.rate_hz, 50.0);
+  EXPECT_EQ(c.validate(), "");
+  EXPECT_EQ(c.lidar.model, LidarModel::kA2M8);
+  EXPECT_EQ(c.imu.seed, derive_seed(9, 3));
+}
+
+TEST(SensorConfig, ValidateRejectsBadValues) {
+  SensorConfig c;
+  EXPECT_EQ(c.validate(), "");
+  c.gnss.bias_mean_m = 12.0;  // above bias_max_m
+  EXPECT_NE(c.validate(), "");
+  c = SensorConfig{};
+  c.imu.declination_deg = 100.0;
+  EXPECT_NE(c.validate(), "");
+  c = SensorConfig{};
+  c.camera.blur_kernel_px = 4;
+  EXPECT_NE(c.validate(), "");
+  c = SensorConfig{};
+  c.lidar.spurious_max_range_m = 50.0;
+  EXPECT_NE(c.validate(), "");
+}
+
 }  // namespace
 }  // namespace coxswain::sim::sensors
