@@ -9,6 +9,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/perception/buoy_detector.hpp"
 #include "coxswain/perception/marker_detector.hpp"
+#include "coxswain/perception/vision_params.hpp"
 
 namespace coxswain::sim::sensors {
 namespace {
@@ -181,6 +182,34 @@ TEST(CameraSim, ModerateGlareStillDetectedSevereGlareWashesColoursOut) {
   severe.render(pose, frame);
   ASSERT_TRUE(detector.detect(frame, 0, out));
   EXPECT_FALSE(perception::find_target(out, msg::Colour::kRed, msg::Shape::kTriangle).has_value());
+}
+
+TEST(CameraSim, PinholeAgreesWithTheDetectorsBearingModel) {
+  CameraSimConfig c;
+  c.mount = {15.0, 0.1, 0.2};
+  CameraSim cam(c, world::World{});
+  const core::NavPose pose{{3.0, -2.0}, 40.0};
+  for (const double rel_deg : {-35.0, -10.0, 0.0, 22.0, 38.0}) {
+    // A point 500 m away at camera height lies on the horizon row, at the bearing the
+    // detectors' pinhole model gives back for its column.
+    const core::NavPoint eye = core::body_to_nav(pose, {c.mount.x_m, c.mount.y_m});
+    const double b = core::deg_to_rad(pose.heading_deg + c.mount.yaw_deg + rel_deg);
+    const core::NavPoint far{eye.north_m + 500.0 * std::cos(b), eye.east_m + 500.0 * std::sin(b)};
+    cv::Point2d px;
+    ASSERT_TRUE(cam.project(pose, far, c.height_m, px));
+    EXPECT_NEAR(px.y, 240.0, 1e-6);
+    EXPECT_NEAR(perception::camera_bearing_deg(px.x, c.width_px, c.hfov_deg), rel_deg, 1e-6);
+    EXPECT_NEAR(perception::body_bearing_deg(px.x, c.width_px, c.hfov_deg, c.mount.yaw_deg),
+                rel_deg + c.mount.yaw_deg, 1e-6);
+    EXPECT_NEAR(cam.bearing_in_image_deg(pose, far), rel_deg, 1e-6);
+  }
+  // Tilting the camera down raises the horizon.
+  c.tilt_down_deg = 10.0;
+  CameraSim tilted(c, world::World{});
+  cv::Point2d px;
+  ASSERT_TRUE(tilted.project(pose, {pose.position.north_m + 1000.0, pose.position.east_m + 1000.0},
+                             c.height_m, px));
+  EXPECT_NEAR(px.y, 240.0 - tilted.focal_px() * std::tan(core::deg_to_rad(10.0)), 0.2);
 }
 
 TEST(CameraSim, FramesAtItsRate) {
