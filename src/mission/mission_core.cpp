@@ -79,6 +79,17 @@ bool fresh(const core::Sample<T>& s, core::TimeNs now_ns, std::uint32_t limit_ms
   return s.valid() && !s.is_stale(now_ns, core::ms_to_ns(limit_ms));
 }
 
+// A driver that reports its device gone (port vanished, open failed) after the last sample it
+// delivered: the device is down now, without waiting for the sample to age out.
+bool device_down(const core::Snapshot& s, msg::DeviceId id, core::TimeNs last_sample_ns) {
+  const auto& h = s.health[static_cast<std::size_t>(id)];
+  if (!h.valid()) return false;
+  const msg::DeviceState st = h.value.state;
+  const bool down = st == msg::DeviceState::kAbsent || st == msg::DeviceState::kError ||
+                    st == msg::DeviceState::kStale;
+  return down && h.stamp_ns >= last_sample_ns;
+}
+
 double age_ms(const core::TimeNs age_ns) {
   return age_ns == INT64_MAX ? -1.0 : static_cast<double>(age_ns) / 1e6;
 }
@@ -117,10 +128,14 @@ struct MissionCore::Impl {
   // ---- per-tick inputs ----------------------------------------------------------------------
 
   void update_inputs(const core::Snapshot& s, core::TimeNs now) {
-    lidar_fresh = fresh(s.lidar, now, m.lidar_stale_ms);
-    imu_fresh = fresh(s.imu, now, m.imu_stale_ms);
-    gnss_fresh = fresh(s.gnss, now, m.gnss_stale_ms);
-    arduino_fresh = fresh(s.arduino, now, m.arduino_stale_ms);
+    lidar_fresh = fresh(s.lidar, now, m.lidar_stale_ms) &&
+                  !device_down(s, msg::DeviceId::kLidar, s.lidar.stamp_ns);
+    imu_fresh =
+        fresh(s.imu, now, m.imu_stale_ms) && !device_down(s, msg::DeviceId::kImu, s.imu.stamp_ns);
+    gnss_fresh = fresh(s.gnss, now, m.gnss_stale_ms) &&
+                 !device_down(s, msg::DeviceId::kGnss, s.gnss.stamp_ns);
+    arduino_fresh = fresh(s.arduino, now, m.arduino_stale_ms) &&
+                    !device_down(s, msg::DeviceId::kArduino, s.arduino.stamp_ns);
     camera_fresh = fresh(s.camera, now, camera_timeout_ms);
 
     lidar_new = s.lidar.valid() && s.lidar.sequence != lidar_seq;

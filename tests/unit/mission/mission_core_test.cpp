@@ -172,6 +172,25 @@ TEST(MissionHold, StaleGnssHoldsWithinHalfASecondAndResumes) {
   EXPECT_EQ(rig->path(), "hopping/to_wp1");
 }
 
+TEST(MissionHold, ADriverReportingItsDeviceGoneHoldsAtOnce) {
+  auto rig = std::make_unique<Rig>(obstacle_config());
+  rig->run_for(0.5);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate");
+  auto& h = rig->snap->health[static_cast<std::size_t>(msg::DeviceId::kLidar)];
+  h.value.state = msg::DeviceState::kAbsent;
+  h.stamp_ns = rig->now;
+  h.sequence = 1;
+  rig->live_lidar = false;
+  rig->tick();
+  EXPECT_TRUE(rig->out.status.holding);
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kLidarStale);
+  // Back: the driver reports it running and scans flow again.
+  h.value.state = msg::DeviceState::kRunning;
+  h.stamp_ns = rig->now;
+  rig->live_lidar = true;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 1.0));
+}
+
 TEST(MissionHold, ManualModeAndEstopHoldAndResume) {
   auto rig = std::make_unique<Rig>(hopping_config());
   rig->run_for(0.5);
