@@ -592,6 +592,168 @@ void emit_serial(YAML::Emitter& out, const SerialDeviceConfig& d) {
   kv(out, "timeout_ms", d.timeout_ms);
 }
 
+void begin(YAML::Emitter& out, const char* key, bool flow = false) {
+  out << YAML::Key << key << YAML::Value;
+  if (flow) out << YAML::Flow;
+  out << YAML::BeginMap;
+}
+
+// The engine sections, in the mission file's own layout (so the printout loads back).
+void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
+  if (m.navigation.course_zero_deg) {
+    begin(out, "course_frame", true);
+    kv(out, "zero_heading_deg", *m.navigation.course_zero_deg);
+    out << YAML::EndMap;
+  }
+  begin(out, "navigation", true);
+  kv(out, "heading_filter_tau_s", m.navigation.heading_filter_tau_s);
+  out << YAML::EndMap;
+  const auto& g = m.gps_calibration;
+  begin(out, "gps_calibration", true);
+  kv(out, "min_fixes", g.min_fixes);
+  kv(out, "window", g.window);
+  kv(out, "max_spread_m", g.max_spread_m);
+  kv(out, "max_offset_m", g.max_offset_m);
+  out << YAML::EndMap;
+  const auto& w = m.waypoints;
+  begin(out, "waypoints");
+  kv(out, "arrival_radius_m", w.arrival_radius_m);
+  kv(out, "slip_radius_m", w.slip_radius_m);
+  kv(out, "line_following", w.line_following);
+  kv(out, "lookahead_m", w.line.lookahead_m);
+  kv(out, "integral_gain", w.line.integral_gain);
+  kv(out, "max_integral_m", w.line.max_integral_m);
+  kv(out, "max_dt_s", w.line.max_dt_s);
+  out << YAML::EndMap;
+  const auto& h = m.heading_pid;
+  begin(out, "heading_pid");
+  kv(out, "kp_per_deg", h.kp_per_deg);
+  kv(out, "ki_per_deg_s", h.ki_per_deg_s);
+  kv(out, "kd_per_dps", h.kd_per_dps);
+  kv(out, "output_limit", h.output_limit);
+  kv(out, "integral_zone_deg", h.integral_zone_deg);
+  kv(out, "integral_limit", h.integral_limit);
+  kv(out, "tracking_gain_per_s", h.tracking_gain_per_s);
+  kv(out, "derivative_tau_s", h.derivative_tau_s);
+  kv(out, "max_dt_s", h.max_dt_s);
+  kv(out, "reversal_hold_deg", h.reversal_hold_deg);
+  out << YAML::EndMap;
+  const auto& sp = m.speed;
+  begin(out, "speed");
+  kv(out, "min_thrust_frac", sp.min_thrust_frac);
+  kv(out, "max_thrust_frac", sp.max_thrust_frac);
+  kv(out, "slow_distance_m", sp.slow_distance_m);
+  kv(out, "fast_distance_m", sp.fast_distance_m);
+  kv(out, "rise_per_s", sp.rise_per_s);
+  kv(out, "fall_per_s", sp.fall_per_s);
+  kv(out, "cruise_thrust_frac", m.cruise_thrust_frac);
+  out << YAML::EndMap;
+  const auto& a = m.avoidance;
+  begin(out, "avoidance");
+  kv(out, "strategy", std::string(guidance::to_string(a.strategy)));
+  kv(out, "fan_min_deg", a.fan.min_deg);
+  kv(out, "fan_max_deg", a.fan.max_deg);
+  kv(out, "bin_width_deg", a.fan.bin_width_deg);
+  kv(out, "detection_range_m", a.detection_range_m);
+  kv(out, "half_beam_m", a.half_beam_m);
+  kv(out, "clearance_m", a.clearance_m);
+  kv(out, "slow_down_range_m", a.slow_down_range_m);
+  kv(out, "min_speed_factor", a.min_speed_factor);
+  kv(out, "shrink_factor", a.shrink_factor);
+  kv(out, "min_detection_range_m", a.min_detection_range_m);
+  kv(out, "blocked_speed_factor", a.blocked_speed_factor);
+  kv(out, "all_blocked",
+     a.all_blocked_policy == guidance::AllBlockedPolicy::kStop ? "stop" : "back_off");
+  kv(out, "back_off_speed_factor", a.back_off_speed_factor);
+  kv(out, "hysteresis_deg", a.hysteresis_deg);
+  kv(out, "hold_time_s", a.hold_time_s);
+  begin(out, "score", true);
+  kv(out, "goal_weight", a.score_goal_weight);
+  kv(out, "distance_weight", a.score_distance_weight);
+  kv(out, "angle_weight", a.score_angle_weight);
+  kv(out, "block_range_m", a.score_block_range_m);
+  out << YAML::EndMap;
+  begin(out, "risk", true);
+  kv(out, "gain_per_m", a.risk_gain_per_m);
+  kv(out, "offset", a.risk_offset);
+  kv(out, "max", a.risk_max);
+  kv(out, "threshold", a.risk_threshold);
+  out << YAML::EndMap;
+  kv(out, "naive_margin_deg", a.naive_margin_deg);
+  out << YAML::EndMap;
+  const auto& c = m.clustering;
+  begin(out, "clustering");
+  kv(out, "group_gap_m", c.group_gap_m);
+  kv(out, "group_gap_per_m", c.group_gap_per_m);
+  kv(out, "min_group_points", c.min_group_points);
+  kv(out, "split_distance_m", c.split_distance_m);
+  kv(out, "split_distance_per_m", c.split_distance_per_m);
+  kv(out, "min_split_points", c.min_split_points);
+  kv(out, "wall_min_length_m", c.wall_min_length_m);
+  kv(out, "wall_piece_max_length_m", c.wall_piece_max_length_m);
+  kv(out, "min_range_m", c.min_range_m);
+  kv(out, "max_range_m", c.max_range_m);
+  begin(out, "hull_box", true);
+  kv(out, "forward_min_m", c.hull.forward_min_m);
+  kv(out, "forward_max_m", c.hull.forward_max_m);
+  kv(out, "starboard_min_m", c.hull.starboard_min_m);
+  kv(out, "starboard_max_m", c.hull.starboard_max_m);
+  out << YAML::EndMap;
+  kv(out, "profile_bin_width_deg", c.profile_bin_width_deg);
+  kv(out, "line_fit", c.line_fit);
+  kv(out, "merge_across_seam", c.merge_across_seam);
+  out << YAML::EndMap;
+  const auto& v = m.vision_vote;
+  begin(out, "vision_vote", true);
+  kv(out, "window_s", core::ns_to_sec(v.window_ns));
+  kv(out, "min_ratio", v.min_ratio);
+  kv(out, "min_frames", v.min_frames);
+  kv(out, "min_span_s", core::ns_to_sec(v.min_span_ns));
+  out << YAML::EndMap;
+  const auto& c1 = m.course1;
+  begin(out, "course1");
+  kv(out, "turn_deg", c1.turn_deg);
+  kv(out, "search_timeout_s", c1.search_timeout_s);
+  kv(out, "search_thrust_frac", c1.search_thrust_frac);
+  kv(out, "buoy_colour", std::string(msg::colour_name(c1.buoy_colour)));
+  out << YAML::EndMap;
+  const auto& c2 = m.course2;
+  const auto& b = c2.circling;
+  begin(out, "course2");
+  kv(out, "buoy_colour", std::string(msg::colour_name(c2.buoy_colour)));
+  kv(out, "target_bearing_deg", b.target_bearing_deg);
+  kv(out, "target_distance_m", b.target_distance_m);
+  kv(out, "bearing_gain", b.bearing_gain);
+  kv(out, "distance_gain_deg_per_m", b.distance_gain_deg_per_m);
+  kv(out, "max_distance_correction_deg", b.max_distance_correction_deg);
+  kv(out, "max_turn_deg", b.max_turn_deg);
+  kv(out, "search_turn_deg", b.search_turn_deg);
+  kv(out, "complete_turn_deg", b.complete_turn_deg);
+  kv(out, "max_heading_step_deg", b.max_heading_step_deg);
+  kv(out, "circling_thrust_frac", c2.circling_thrust_frac);
+  kv(out, "buoy_range_window_deg", c2.buoy_range_window_deg);
+  kv(out, "exit_course_deg", c2.exit_course_deg);
+  kv(out, "seek_thrust_frac", c2.seek_thrust_frac);
+  kv(out, "colour_timeout_s", c2.colour_timeout_s);
+  out << YAML::Key << "colours" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const msg::Colour col : c2.colours) out << std::string(msg::colour_name(col));
+  out << YAML::EndSeq << YAML::EndMap;
+  const auto& d = m.docking;
+  begin(out, "docking");
+  kv(out, "lookahead_m", d.approach.lookahead_m);
+  kv(out, "stop_range_m", d.approach.stop_range_m);
+  kv(out, "marker_gain", d.approach.marker_gain);
+  kv(out, "max_marker_turn_deg", d.approach.max_marker_turn_deg);
+  kv(out, "ahead_half_angle_deg", d.approach.ahead_half_angle_deg);
+  kv(out, "decision_distance_m", d.decision_distance_m);
+  kv(out, "face_time_s", d.face_time_s);
+  kv(out, "face_tolerance_deg", d.face_tolerance_deg);
+  kv(out, "approach_thrust_frac", d.approach_thrust_frac);
+  kv(out, "open_window_deg", d.open_window_deg);
+  kv(out, "open_max_range_m", d.open_max_range_m);
+  out << YAML::EndMap;
+}
+
 }  // namespace
 
 std::string to_yaml(const Configuration& c) {
@@ -695,6 +857,7 @@ std::string to_yaml(const Configuration& c) {
      : m.start_mode == StartMode::kArduinoSwitch ? "arduino_switch"
                                                  : "control");
   kv(out, "calibrate_gps", m.calibrate_gps_at_start);
+  kv(out, "require_arduino", m.require_arduino);
   out << YAML::EndMap;
   out << YAML::Key << "stale_after_ms" << YAML::Value << YAML::Flow << YAML::BeginMap;
   kv(out, "lidar", m.lidar_stale_ms);
@@ -702,12 +865,28 @@ std::string to_yaml(const Configuration& c) {
   kv(out, "gnss", m.gnss_stale_ms);
   kv(out, "arduino", m.arduino_stale_ms);
   out << YAML::EndMap;
+  emit_engines(out, m);
   out << YAML::Key << "tasks" << YAML::Value << YAML::BeginSeq;
   for (const TaskConfig& t : m.tasks) {
     out << YAML::BeginMap;
     kv(out, "type", std::string(task_type_name(t.type)));
     kv(out, "name", t.name);
     kv(out, "time_limit_s", t.time_limit_s);
+    kv(out, "on_timeout", t.on_timeout == TimeoutOutcome::kNextTask ? "next_task" : "finish");
+    if (t.type == TaskType::kDocking) {
+      kv(out, "style", t.docking_style == DockingStyle::kKaboat2022 ? "kaboat2022" : "course3");
+      kv(out, "dock_heading_deg", t.dock_heading_deg);
+    }
+    if (!t.slips.empty()) {
+      out << YAML::Key << "slips" << YAML::Value << YAML::BeginSeq;
+      for (const auto& w : t.slips) {
+        out << YAML::Flow << YAML::BeginMap;
+        kv(out, "lat_deg", w.lat_deg);
+        kv(out, "lon_deg", w.lon_deg);
+        out << YAML::EndMap;
+      }
+      out << YAML::EndSeq;
+    }
     if (!t.waypoints.empty()) {
       out << YAML::Key << "waypoints" << YAML::Value << YAML::BeginSeq;
       for (const auto& w : t.waypoints) {

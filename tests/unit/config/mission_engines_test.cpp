@@ -79,6 +79,15 @@ TEST(MissionEngines, SectionsReachTheEngineParameters) {
   ASSERT_EQ(m.tasks.size(), 1U);
   EXPECT_EQ(m.tasks[0].docking_style, DockingStyle::kCourse3);
   EXPECT_EQ(m.tasks[0].on_timeout, TimeoutOutcome::kFinish);
+  // --print-config shows the effective engine parameters.
+  Configuration c;
+  c.mission = m;
+  const std::string yaml = to_yaml(c);
+  EXPECT_NE(yaml.find("strategy: risk_bin"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("zero_heading_deg: 12.5"), std::string::npos);
+  EXPECT_NE(yaml.find("colours: [yellow, blue]"), std::string::npos);
+  EXPECT_NE(yaml.find("style: course3"), std::string::npos);
+  EXPECT_NO_THROW((void)YAML::Load(yaml));
 }
 
 TEST(MissionEngines, ErrorsNameFileLineAndKey) {
