@@ -264,6 +264,7 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     c.colour_timeout_s = m->get("colour_timeout_s", c.colour_timeout_s, {0.0, 3600.0});
     c.seek_thrust_frac = m->get("seek_thrust_frac", c.seek_thrust_frac, kFrac);
     c.buoy_range_window_deg = m->get("buoy_range_window_deg", c.buoy_range_window_deg, {0.0, 45.0});
+    c.buoy_memory_s = m->get("buoy_memory_s", c.buoy_memory_s, {0.0, 10.0});
     c.buoy_colour = read_colour(*m, "buoy_colour");
     if (!m->has("buoy_colour")) c.buoy_colour = msg::Colour::kPurple;
     if (m->has("colours")) {
@@ -732,6 +733,7 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "max_heading_step_deg", b.max_heading_step_deg);
   kv(out, "circling_thrust_frac", c2.circling_thrust_frac);
   kv(out, "buoy_range_window_deg", c2.buoy_range_window_deg);
+  kv(out, "buoy_memory_s", c2.buoy_memory_s);
   kv(out, "exit_course_deg", c2.exit_course_deg);
   kv(out, "seek_thrust_frac", c2.seek_thrust_frac);
   kv(out, "colour_timeout_s", c2.colour_timeout_s);

@@ -169,7 +169,7 @@ struct MissionCore::Impl {
         if (top == Top::kWaitForStart && m.calibrate_gps_at_start) calibration.add(raw_antenna);
       }
     }
-    position_valid = gnss_fresh && fix_usable && has_fix && heading_valid;
+    position_valid = gnss_fresh && fix_usable && has_fix;
     antenna = offset.apply(raw_antenna);
     // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
     const core::NavPoint mount_offset =

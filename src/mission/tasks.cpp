@@ -359,7 +359,9 @@ class Course2Task final : public Task {
  private:
   TaskResult circle(const TaskContext& ctx, GuidanceRequest& out) {
     guidance::BuoyObservation obs;
-    if (ctx.camera_fresh && ctx.camera != nullptr) {
+    // An old bearing steered on while the heading changes would overshoot: only recent frames.
+    if (ctx.camera != nullptr &&
+        core::ns_to_sec(ctx.now_ns - ctx.camera->stamp_ns) <= c_.buoy_memory_s) {
       if (const msg::Detection* d = largest_of(*ctx.camera, c_.buoy_colour)) {
         obs.bearing_deg = static_cast<double>(d->bearing_deg);
         if (ctx.lidar_fresh && ctx.profile != nullptr) {

@@ -174,6 +174,7 @@ struct Course2Config {
   double colour_timeout_s = 30.0;  // no colour by then: go to the waypoint with the LED off
   double seek_thrust_frac = 0.4;
   double buoy_range_window_deg = 3.0;  // lidar bins either side of the camera bearing
+  double buoy_memory_s = 0.25;         // a camera bearing older than this is not steered on
   std::vector<msg::Colour> colours{msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue};
   msg::Colour buoy_colour = msg::Colour::kPurple;
 };
@@ -205,7 +206,7 @@ struct MissionConfig {
   bool calibrate_gps_at_start = true;
   std::uint32_t lidar_stale_ms = 300;
   std::uint32_t imu_stale_ms = 200;
-  std::uint32_t gnss_stale_ms = 1500;
+  std::uint32_t gnss_stale_ms = 450;  // 5 Hz fixes: one may be lost; hold within 0.5 s
   std::uint32_t arduino_stale_ms = 500;
   /// Autonomy needs a live Arduino in autonomous mode; false only for bench runs without one.
   bool require_arduino = true;

@@ -126,9 +126,9 @@ TEST(MissionRefusal, NoHeadingRefusesEntry) {
   rig->heading_deg = std::nan("");
   rig->run_for(0.5);
   EXPECT_EQ(rig->path(), "hopping/refused");
-  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "no usable GNSS fix");  // position
-  // needs a heading too (the antenna-to-bow offset turns with it); the fix alone is not enough.
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "no heading");
   EXPECT_FALSE(rig->out.status.heading_valid);
+  EXPECT_TRUE(rig->out.status.position_valid);
   rig->heading_deg = 10.0;
   ASSERT_TRUE(rig->run_until([&] { return rig->path() == "hopping/to_wp1"; }, 1.0));
 }
