@@ -4,9 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <type_traits>
 
+#include "coxswain/guidance/avoidance.hpp"
 #include "mission_rig.hpp"
+#include "support/testdata.hpp"
 
 namespace coxswain::mission::test {
 namespace {
@@ -29,6 +32,15 @@ config::Configuration obstacle_config() {
   const core::LocalFrame f(c.mission.origin);
   c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
   return c;
+}
+
+msg::Detection detection(msg::Colour colour, msg::Shape shape, float bearing_deg) {
+  msg::Detection d;
+  d.colour = colour;
+  d.shape = shape;
+  d.bearing_deg = bearing_deg;
+  d.area_px = 500.0F;
+  return d;
 }
 
 // ---- wait for start -------------------------------------------------------------------------
@@ -311,16 +323,63 @@ TEST(MissionHopping, UnicycleVisitsEveryWaypointAlongTheLegs) {
   EXPECT_TRUE(rig->neutral());
 }
 
-// ---- course 2 -------------------------------------------------------------------------------
+// ---- obstacle course and course 1 ---------------------------------------------------------
 
-msg::Detection detection(msg::Colour colour, msg::Shape shape, float bearing_deg) {
-  msg::Detection d;
-  d.colour = colour;
-  d.shape = shape;
-  d.bearing_deg = bearing_deg;
-  d.area_px = 500.0F;
-  return d;
+TEST(MissionObstacleCourse, UnicycleAvoidsABuoyOnTheLineAndPassesTheGate) {
+  auto rig = std::make_unique<Rig>(obstacle_config());
+  rig->move = true;
+  rig->world_buoys.push_back({{15.0, 0.3}, 0.5});
+  double closest_m = 1e9;
+  bool avoided = false;
+  const bool done = rig->run_until(
+      [&] {
+        closest_m = std::min(closest_m, core::distance_m(rig->position, {15.0, 0.3}));
+        avoided = avoided || rig->out.viz.avoidance_status ==
+                                 static_cast<std::uint8_t>(guidance::AvoidanceStatus::kAvoiding);
+        return rig->out.status.finished;
+      },
+      120.0);
+  ASSERT_TRUE(done) << rig->log_text() << rig->path();
+  EXPECT_TRUE(avoided);
+  EXPECT_GT(closest_m, 1.0);  // the buoy's surface kept at more than 0.5 m from the track
+  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: passed the final gate"))
+      << rig->log_text();
 }
+
+config::Configuration course1_config() {
+  config::Configuration c = kaboat2026_config();
+  c.mission.tasks[0].time_limit_s = 180.0;
+  c.mission.tasks[1].time_limit_s = 120.0;
+  return c;
+}
+
+TEST(MissionCourse1, AtTheWaypointTurnsToStarboardUntilTheBuoyIsSeen) {
+  auto rig = std::make_unique<Rig>(course1_config());
+  rig->position = {49.0, 0.0};  // within the arrival radius of the waypoint at (50, 0)
+  rig->heading_deg = 10.0;
+  rig->run_for(0.4);
+  EXPECT_EQ(rig->path(), "course1/search_buoy") << rig->log_text();
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 55.0, 0.5);  // 45 deg to starboard
+  rig->camera({detection(msg::Colour::kPurple, msg::Shape::kBuoy, 20.0F)});
+  rig->tick();
+  EXPECT_EQ(rig->path(), "course2/circling");
+  EXPECT_TRUE(rig->logged("course1/search_buoy -> course2/circling: purple buoy seen at 20 deg"))
+      << rig->log_text();
+}
+
+TEST(MissionCourse1, BuoyNotSeenMovesOnAfterTheSearchTimeout) {
+  auto rig = std::make_unique<Rig>(course1_config());
+  rig->position = {49.0, 0.0};
+  rig->run_for(0.4);
+  ASSERT_EQ(rig->path(), "course1/search_buoy");
+  rig->run_for(2.5);
+  EXPECT_EQ(rig->path(), "course1/search_buoy");
+  rig->run_for(1.0);
+  EXPECT_EQ(rig->path(), "course2/circling");
+  EXPECT_TRUE(rig->logged("buoy not seen within 3.0 s")) << rig->log_text();
+}
+
+// ---- course 2 -------------------------------------------------------------------------------
 
 TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
   config::Configuration c = base_config(config::TaskType::kCourse2);
@@ -495,6 +554,27 @@ TEST(MissionDeterminism, SameInputsGiveBitIdenticalOutputs) {
 }
 
 // ---- configuration errors -----------------------------------------------------------------
+
+TEST(MissionCoreConstruction, EveryShippedMissionBuildsWithTheShippedBoat) {
+  const std::filesystem::path dir = coxswain::testing::source_dir() / "config";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "missions")) {
+    config::ConfigErrors errors;
+    const config::Configuration c{
+        config::load_boat_config((dir / "boat.yaml").string(), errors),
+        config::load_devices_config((dir / "devices.yaml").string(), errors),
+        config::load_mission_config(entry.path().string(), errors)};
+    ASSERT_TRUE(errors.empty()) << errors.format();
+    auto core = std::make_unique<MissionCore>(c);
+    auto snap = std::make_unique<core::Snapshot>();
+    auto out = std::make_unique<CoreOutput>();
+    core->step(*snap, core::kNsPerSec, *out);
+    EXPECT_EQ(out->status.state_path.view(), "wait_for_start") << entry.path();
+    EXPECT_EQ(out->status.task_count, c.mission.tasks.size());
+    ++count;
+  }
+  EXPECT_GE(count, 4);
+}
 
 TEST(MissionCoreConstruction, InvalidEngineParametersThrow) {
   config::Configuration c = obstacle_config();

@@ -120,7 +120,10 @@ class Rig {
   void tick() {
     if (live_imu) imu(heading_deg + heading_noise());
     if (live_gnss && (tick_count_ % 10 == 0)) gnss(position, gnss_usable);  // 5 Hz
-    if (live_lidar && (tick_count_ % 5 == 0)) lidar();                      // 10 Hz
+    if (live_lidar && (tick_count_ % 5 == 0)) {                             // 10 Hz
+      if (!world_buoys.empty()) scan_world();
+      lidar();
+    }
     if (live_arduino && (tick_count_ % 5 == 0)) publish_arduino();
     core.step(*snap, now, out);
     for (std::uint32_t i = 0; i < out.transitions.count; ++i) {
@@ -165,6 +168,21 @@ class Rig {
     const double p = out.command.pulse_us[1];
     return p <= 1550.0 ? 0.0 : (p - 1550.0) / (1900.0 - 1550.0);
   }
+
+  /// Rebuilds `scan` from `world_buoys` as seen from the boat's pose.
+  void scan_world() {
+    scan.clear();
+    const core::NavPose pose{position, heading_deg};
+    for (const WorldBuoy& b : world_buoys) {
+      const core::BodyPoint p = core::nav_to_body(pose, b.centre);
+      add_circle(scan, p.forward_m, p.starboard_m, b.radius_m);
+    }
+  }
+  struct WorldBuoy {
+    core::NavPoint centre;
+    double radius_m = 0.5;
+  };
+  std::vector<WorldBuoy> world_buoys;
 
   // ---- the unicycle boat ----
   void integrate() {
