@@ -170,6 +170,10 @@ struct MissionCore::Impl {
       }
     }
     position_valid = gnss_fresh && fix_usable && has_fix;
+    update_pose();
+  }
+
+  void update_pose() {
     antenna = offset.apply(raw_antenna);
     // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
     const core::NavPoint mount_offset =
@@ -349,15 +353,17 @@ struct MissionCore::Impl {
   }
 
   /// Leaves the current task and opens the next (or finishes); tries to enter it at once.
-  void next_task(std::string_view why, const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+  void next_task(std::string_view why, const core::Snapshot& s, core::TimeNs now, CoreOutput& out,
+                 bool finish = false) {
     if (entered) tasks[task_index]->exit();
     entered = false;
     pid.reset();
-    if (task_index + 1 >= tasks.size()) {
-      task_index = tasks.size() - 1;
+    if (finish || task_index + 1 >= tasks.size()) {
       top = Top::kFinished;
       status.finished = true;
+      finish_ns = now;
       holding = false;
+      status.hold_reason = HoldReason::kNone;
       transition(why, now, out);
       return;
     }
@@ -410,7 +416,7 @@ struct MissionCore::Impl {
       const guidance::CalibrationResult r = calibration.result();
       offset = r.offset;
       status.gps_calibrated = true;
-      antenna = offset.apply(raw_antenna);
+      update_pose();
     }
     course_zero_deg = m.navigation.course_zero_deg.value_or(heading_deg);
     top = Top::kActive;
@@ -431,10 +437,7 @@ struct MissionCore::Impl {
       const ReasonText why = reason_printf("%.*s time limit %.0f s reached",
                                            static_cast<int>(tasks[task_index]->name().size()),
                                            tasks[task_index]->name().data(), tc.time_limit_s);
-      if (tc.on_timeout == config::TimeoutOutcome::kFinish) {
-        task_index = tasks.size() - 1;
-      }
-      next_task(why.view(), s, now, out);
+      next_task(why.view(), s, now, out, tc.on_timeout == config::TimeoutOutcome::kFinish);
       if (top != Top::kActive) return;
     }
 
@@ -517,7 +520,8 @@ struct MissionCore::Impl {
                                               : static_cast<std::uint32_t>(task_index);
     status.holding = holding;
     if (holding) status.waiting_for = hold_detail;
-    status.mission_elapsed_s = status.started ? core::ns_to_sec(now - start_ns) : 0.0;
+    const core::TimeNs end_ns = top == Top::kFinished ? finish_ns : now;
+    status.mission_elapsed_s = status.started ? core::ns_to_sec(end_ns - start_ns) : 0.0;
     status.task_elapsed_s = top == Top::kActive ? core::ns_to_sec(now - task_start_ns) : 0.0;
     status.position_valid = position_valid;
     status.heading_valid = heading_valid;
@@ -566,6 +570,7 @@ struct MissionCore::Impl {
   MissionStatus status;
   core::TimeNs start_ns = 0;
   core::TimeNs task_start_ns = 0;
+  core::TimeNs finish_ns = 0;
   std::uint32_t consumed_start = 0;
   msg::LedColour led = msg::LedColour::kOff;
 

@@ -222,6 +222,25 @@ TEST(MissionHold, ManualModeAndEstopHoldAndResume) {
   EXPECT_EQ(rig->out.status.hold_count, 2U);
 }
 
+TEST(MissionHold, OperatorHoldFromTheControlInterface) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->run_for(0.5);
+  auto& op = rig->snap->operator_input;
+  op.value.hold = true;
+  op.stamp_ns = rig->now;
+  op.sequence = 1;
+  rig->tick();
+  EXPECT_TRUE(rig->out.status.holding);
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kOperator);
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "operator hold");
+  EXPECT_TRUE(rig->neutral());
+  op.value.hold = false;
+  op.sequence = 2;
+  rig->tick();
+  EXPECT_FALSE(rig->out.status.holding);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+}
+
 TEST(MissionHold, ResumeRampsTheThrustFromZero) {
   auto rig = std::make_unique<Rig>(hopping_config());
   rig->run_for(8.0);
@@ -278,6 +297,10 @@ TEST(MissionTimeLimit, FinishOutcomeEndsTheMission) {
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 4.0));
   EXPECT_EQ(rig->out.status.tasks_timed_out, 1U);
   EXPECT_TRUE(rig->logged("course1/to_waypoint -> finished"));
+  EXPECT_EQ(rig->out.status.task_index, 3U);  // == task_count once finished
+  const double elapsed = rig->out.status.mission_elapsed_s;
+  rig->run_for(1.0);
+  EXPECT_DOUBLE_EQ(rig->out.status.mission_elapsed_s, elapsed);  // the clock stops at the finish
 }
 
 TEST(MissionTimeLimit, CountsDuringHoldSoAHeldCourseStillMovesOn) {
