@@ -459,6 +459,39 @@ TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
   EXPECT_NEAR(rig->out.viz.goal.north_m, 30.0, 1e-6);
 }
 
+TEST(MissionKaboat2026, ClosedLoopThroughCourseOneAndTwo) {
+  config::Configuration c = kaboat2026_config();
+  c.mission.tasks[0].time_limit_s = 180.0;
+  c.mission.tasks[1].time_limit_s = 120.0;
+  c.mission.tasks[2].time_limit_s = 20.0;
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints[0] = f.to_geo({30.0, 0.0});
+  c.mission.tasks[1].waypoints[0] = f.to_geo({45.0, -25.0});
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  // Course 1's field: two buoys near the line. Course 2's purple buoy to port of the turn, and
+  // the red target object south-west of it.
+  rig->world_buoys.push_back({{12.0, 0.4}, 0.4});
+  rig->world_buoys.push_back({{20.0, -1.0}, 0.4});
+  rig->world_objects.push_back({{33.0, -3.0}, msg::Colour::kPurple, msg::Shape::kBuoy});
+  rig->world_buoys.push_back({{33.0, -3.0}, 0.3});  // the lidar gives its range
+  rig->world_objects.push_back({{24.0, -12.0}, msg::Colour::kRed, msg::Shape::kCircle});
+  const bool reached_course3 =
+      rig->run_until([&] { return rig->out.status.task_index >= 2; }, 300.0);
+  ASSERT_TRUE(reached_course3) << rig->log_text() << rig->path();
+  EXPECT_TRUE(rig->logged("course1/search_buoy -> course2/circling: purple buoy seen"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("course2/circling -> course2/seek_colour: one full turn"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("course2/seek_colour -> course2/to_waypoint: target colour red"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> course3/seek_open: reached the course 2 waypoint"))
+      << rig->log_text();
+  EXPECT_EQ(rig->out.command.led, msg::LedColour::kRed);
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 25.0));
+}
+
 // ---- docking 2022 -----------------------------------------------------------------------------
 
 TEST(MissionDocking2022, VotesChooseTheTargetSlipThenRayPursuitAndLidarStop) {

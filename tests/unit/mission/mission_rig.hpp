@@ -125,11 +125,12 @@ class Rig {
       lidar();
     }
     if (live_arduino && (tick_count_ % 5 == 0)) publish_arduino();
+    if (!world_objects.empty() && (tick_count_ % 5 == 0)) see_world();
     core.step(*snap, now, out);
     for (std::uint32_t i = 0; i < out.transitions.count; ++i) {
       const Transition& t = out.transitions.entries[i];
-      log.push_back(std::string(t.from.view()) + " -> " + std::string(t.to.view()) + ": " +
-                    std::string(t.reason.view()));
+      log.push_back("[" + std::to_string(core::ns_to_sec(now)) + "] " + std::string(t.from.view()) +
+                    " -> " + std::string(t.to.view()) + ": " + std::string(t.reason.view()));
     }
     if (move) integrate();
     now += kTickNs;
@@ -178,6 +179,35 @@ class Rig {
       add_circle(scan, p.forward_m, p.starboard_m, b.radius_m);
     }
   }
+  /// Publishes a camera frame of the `world_objects` inside the camera's field of view.
+  void see_world() {
+    auto& s = snap->camera;
+    s.value.count = 0;
+    const core::NavPose pose{position, heading_deg};
+    for (const WorldObject& o : world_objects) {
+      const core::BodyPoint p = core::nav_to_body(pose, o.centre);
+      const double range = std::hypot(p.forward_m, p.starboard_m);
+      const double bearing = core::rad_to_deg(std::atan2(p.starboard_m, p.forward_m));
+      if (range > 20.0 || std::abs(core::angle_diff_deg(bearing, camera_yaw_deg)) > 40.0) continue;
+      msg::Detection d;
+      d.colour = o.colour;
+      d.shape = o.shape;
+      d.bearing_deg = static_cast<float>(bearing);
+      d.area_px = static_cast<float>(5000.0 / (range * range + 1.0));
+      (void)s.value.push(d);
+    }
+    s.value.stamp_ns = now;
+    s.stamp_ns = now;
+    ++s.sequence;
+  }
+  struct WorldObject {
+    core::NavPoint centre;
+    msg::Colour colour = msg::Colour::kUnknown;
+    msg::Shape shape = msg::Shape::kUnknown;
+  };
+  std::vector<WorldObject> world_objects;
+  double camera_yaw_deg = -90.0;  // the 2026 plan: the camera looks to port
+
   struct WorldBuoy {
     core::NavPoint centre;
     double radius_m = 0.5;
