@@ -301,6 +301,7 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     d.decision_distance_m = m->get("decision_distance_m", d.decision_distance_m, kPositive);
     d.face_time_s = m->get("face_time_s", d.face_time_s, {0.1, 600.0});
     d.face_tolerance_deg = m->get("face_tolerance_deg", d.face_tolerance_deg, {0.5, 90.0});
+    d.marker_window_deg = m->get("marker_window_deg", d.marker_window_deg, {0.5, 90.0});
     d.approach_thrust_frac = m->get("approach_thrust_frac", d.approach_thrust_frac, kFrac);
     d.open_window_deg = m->get("open_window_deg", d.open_window_deg, {0.0, 45.0});
     d.open_max_range_m = m->get("open_max_range_m", d.open_max_range_m, kPositive);
@@ -750,6 +751,7 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "decision_distance_m", d.decision_distance_m);
   kv(out, "face_time_s", d.face_time_s);
   kv(out, "face_tolerance_deg", d.face_tolerance_deg);
+  kv(out, "marker_window_deg", d.marker_window_deg);
   kv(out, "approach_thrust_frac", d.approach_thrust_frac);
   kv(out, "open_window_deg", d.open_window_deg);
   kv(out, "open_max_range_m", d.open_max_range_m);

@@ -567,7 +567,9 @@ class Docking2022Task final : public Task {
           std::min<std::uint32_t>(ctx.camera->count, msg::CameraDetections::kMaxDetections);
       for (std::uint32_t k = 0; k < n; ++k) {
         const msg::Detection& det = ctx.camera->detections[k];
-        seen = seen || (det.colour == colour_ && det.shape == shape_);
+        // A neighbouring slip's marker is in the frame too, off to the side: not this slip's.
+        const bool centred = std::abs(static_cast<double>(det.bearing_deg)) <= d_.marker_window_deg;
+        seen = seen || (centred && det.colour == colour_ && det.shape == shape_);
       }
       (void)vote_.add(ctx.camera->stamp_ns, seen);
     }

@@ -185,6 +185,7 @@ struct DockingConfig {
   double decision_distance_m = 4.0;    // 2022: where the boat stops to look, before each slip
   double face_time_s = 8.0;            // 2022: longest look at one slip before moving on
   double face_tolerance_deg = 15.0;    // 2022: votes count only when facing within this
+  double marker_window_deg = 15.0;     // 2022: only markers this near the bow are the slip's
   double approach_thrust_frac = 0.35;  // both: thrust while entering
   double open_window_deg = 10.0;       // 2026: a direction's range is the minimum over +- this
   double open_max_range_m = 15.0;      // 2026: ranges are capped here (no return = this far)

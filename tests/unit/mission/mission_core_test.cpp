@@ -540,6 +540,39 @@ TEST(MissionDocking2022, VotesChooseTheTargetSlipThenRayPursuitAndLidarStop) {
   EXPECT_TRUE(rig->neutral());
 }
 
+TEST(MissionDocking2022, ClosedLoopFindsTheTargetSlipAndStopsInside) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  const core::LocalFrame f(c.mission.origin);
+  auto& t = c.mission.tasks[0];
+  t.time_limit_s = 300.0;
+  t.target_colour = msg::Colour::kBlue;
+  t.target_shape = msg::Shape::kRectangle;
+  t.dock_heading_deg = 90.0;
+  // Three slips 3 m apart opening west at east = 10, 2 m deep; markers on their back walls.
+  for (int i = 0; i < 3; ++i) t.slips.push_back(f.to_geo({3.0 * i, 10.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  rig->camera_yaw_deg = 0.0;  // the docking camera looks ahead
+  const msg::Colour colours[] = {msg::Colour::kRed, msg::Colour::kBlue, msg::Colour::kGreen};
+  const msg::Shape shapes[] = {msg::Shape::kTriangle, msg::Shape::kRectangle, msg::Shape::kCross};
+  for (int i = 0; i < 3; ++i) {
+    const double n = 3.0 * i;
+    rig->world_objects.push_back({{n, 12.0}, colours[i], shapes[i]});
+    for (double e = 10.0; e <= 12.0; e += 0.25) {
+      rig->world_buoys.push_back({{n - 1.5, e}, 0.1});
+    }
+    for (double dn = -1.2; dn <= 1.2; dn += 0.25) rig->world_buoys.push_back({{n + dn, 12.1}, 0.1});
+  }
+  for (double e = 10.0; e <= 12.0; e += 0.25) rig->world_buoys.push_back({{7.5, e}, 0.1});
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 200.0))
+      << rig->log_text() << rig->path();
+  EXPECT_EQ(rig->out.status.docking_slip, 1) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> docking/enter_slip2: target marker at slip 2")) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> finished: docked in slip 2")) << rig->log_text();
+  EXPECT_NEAR(rig->position.north_m, 3.0, 1.0);  // inside slip 2
+  EXPECT_GT(rig->position.east_m, 10.5);
+}
+
 TEST(MissionDocking2022, RefusesWithoutATargetMarker) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   const core::LocalFrame f(c.mission.origin);
@@ -576,6 +609,28 @@ TEST(MissionCourse3, SteersAtTheMostOpenDirectionInTheForwardHalfPlaneAndStops) 
   add_wall_ahead(rig->scan, 0.2, 1.0);
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
   EXPECT_TRUE(rig->logged("stopped 0.2"));
+}
+
+TEST(MissionCourse3, ClosedLoopIntoTheDockAtTheEndOfAChannel) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.tasks[0].time_limit_s = 60.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->live_gnss = false;
+  rig->move = true;
+  rig->heading_deg = 8.0;  // slightly off the channel axis
+  // A channel 4 m wide running north, closed by the dock's back wall 12 m ahead.
+  for (double n = -4.0; n <= 12.0; n += 0.3) {
+    rig->world_buoys.push_back({{n, -2.0}, 0.15});
+    rig->world_buoys.push_back({{n, 2.0}, 0.15});
+  }
+  for (double e = -1.8; e <= 1.8; e += 0.3) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 60.0)) << rig->log_text();
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
+  EXPECT_TRUE(rig->logged("docking/seek_open -> finished: stopped 0.")) << rig->log_text();
+  EXPECT_GT(rig->position.north_m, 10.5);  // at the back wall, not stopped early
+  EXPECT_LT(std::abs(rig->position.east_m), 1.5);
+  EXPECT_TRUE(rig->neutral());
 }
 
 // ---- determinism ------------------------------------------------------------------------------

@@ -39,8 +39,14 @@ inline config::Configuration base_config(config::TaskType type) {
 /// Body-frame lidar returns of a circle (buoy) of `radius_m` at (forward, starboard).
 inline void add_circle(msg::LidarScan& scan, double forward_m, double starboard_m,
                        double radius_m) {
+  // Only the bearings the circle can cover (the scan is 0.5 deg; the test scenes are small).
+  const double dist = std::hypot(forward_m, starboard_m);
+  if (dist <= radius_m) return;
+  const double centre_deg = core::rad_to_deg(std::atan2(starboard_m, forward_m));
+  const double half_deg = core::rad_to_deg(std::asin(radius_m / dist)) + 0.5;
   for (int i = 0; i < 720; ++i) {
     const double b = -180.0 + 0.5 * i;
+    if (std::abs(core::angle_diff_deg(b, centre_deg)) > half_deg) continue;
     const double ux = std::cos(core::deg_to_rad(b));
     const double uy = std::sin(core::deg_to_rad(b));
     const double proj = forward_m * ux + starboard_m * uy;
