@@ -83,6 +83,232 @@ core::GeoPoint read_geo(MapReader& m) {
   return p;
 }
 
+// Reports an engine's own validation message (the engines own their rules) at the section.
+void check(MapReader& m, const std::optional<std::string>& problem) {
+  if (problem) m.error("", *problem);
+}
+void check(MapReader& m, const std::string& problem) {
+  if (!problem.empty()) m.error("", problem);
+}
+
+constexpr Bounds<double> kFrac{0.0, 1.0};
+constexpr Bounds<double> kPositive{1e-9, 1e9};
+
+void read_engines(MapReader& root, MissionConfig& mission) {
+  if (auto m = root.map("course_frame")) {
+    if (m->has("zero_heading_deg")) {
+      mission.navigation.course_zero_deg = m->get("zero_heading_deg", 0.0, {-180.0, 180.0});
+    }
+    m->finish();
+  }
+  if (auto m = root.map("navigation")) {
+    auto& n = mission.navigation;
+    n.heading_filter_tau_s = m->get("heading_filter_tau_s", n.heading_filter_tau_s, {0.0, 10.0});
+    m->finish();
+  }
+  if (auto m = root.map("gps_calibration")) {
+    auto& g = mission.gps_calibration;
+    g.min_fixes = m->get<std::size_t>("min_fixes", g.min_fixes, {1, 256});
+    g.window = m->get<std::size_t>("window", g.window, {1, 256});
+    g.max_spread_m = m->get("max_spread_m", g.max_spread_m, kPositive);
+    g.max_offset_m = m->get("max_offset_m", g.max_offset_m, kPositive);
+    check(*m, g.validate());
+    m->finish();
+  }
+  if (auto m = root.map("waypoints")) {
+    auto& w = mission.waypoints;
+    w.arrival_radius_m = m->get("arrival_radius_m", w.arrival_radius_m, kPositive);
+    w.slip_radius_m = m->get("slip_radius_m", w.slip_radius_m, kPositive);
+    w.line_following = m->get("line_following", w.line_following);
+    w.line.lookahead_m = m->get("lookahead_m", w.line.lookahead_m, kPositive);
+    w.line.integral_gain = m->get("integral_gain", w.line.integral_gain, kNonNegative);
+    w.line.max_integral_m = m->get("max_integral_m", w.line.max_integral_m, kNonNegative);
+    w.line.max_dt_s = m->get("max_dt_s", w.line.max_dt_s, kPositive);
+    check(*m, w.validate());
+    m->finish();
+  }
+  if (auto m = root.map("heading_pid")) {
+    auto& h = mission.heading_pid;
+    h.kp_per_deg = m->get("kp_per_deg", h.kp_per_deg, kNonNegative);
+    h.ki_per_deg_s = m->get("ki_per_deg_s", h.ki_per_deg_s, kNonNegative);
+    h.kd_per_dps = m->get("kd_per_dps", h.kd_per_dps, kNonNegative);
+    h.output_limit = m->get("output_limit", h.output_limit, kFrac);
+    h.integral_zone_deg = m->get("integral_zone_deg", h.integral_zone_deg, kPositive);
+    h.integral_limit = m->get("integral_limit", h.integral_limit, kNonNegative);
+    h.tracking_gain_per_s = m->get("tracking_gain_per_s", h.tracking_gain_per_s, kNonNegative);
+    h.derivative_tau_s = m->get("derivative_tau_s", h.derivative_tau_s, kNonNegative);
+    h.max_dt_s = m->get("max_dt_s", h.max_dt_s, kPositive);
+    h.reversal_hold_deg = m->get("reversal_hold_deg", h.reversal_hold_deg, {0.0, 89.0});
+    check(*m, h.validate());
+    m->finish();
+  }
+  if (auto m = root.map("speed")) {
+    auto& sp = mission.speed;
+    sp.min_thrust_frac = m->get("min_thrust_frac", sp.min_thrust_frac, kFrac);
+    sp.max_thrust_frac = m->get("max_thrust_frac", sp.max_thrust_frac, kFrac);
+    sp.slow_distance_m = m->get("slow_distance_m", sp.slow_distance_m, kNonNegative);
+    sp.fast_distance_m = m->get("fast_distance_m", sp.fast_distance_m, kNonNegative);
+    sp.rise_per_s = m->get("rise_per_s", sp.rise_per_s, kPositive);
+    sp.fall_per_s = m->get("fall_per_s", sp.fall_per_s, kPositive);
+    mission.cruise_thrust_frac = m->get("cruise_thrust_frac", mission.cruise_thrust_frac, kFrac);
+    check(*m, sp.validate());
+    m->finish();
+  }
+  if (auto m = root.map("avoidance")) {
+    auto& a = mission.avoidance;
+    const std::string name = m->get<std::string>("strategy", guidance::to_string(a.strategy));
+    if (auto st = guidance::parse_strategy(name)) {
+      a.strategy = *st;
+    } else {
+      m->error(
+          "strategy",
+          "must be one of: selection, score, risk_bin, selection_naive_2022; got '" + name + "'");
+    }
+    a.fan.min_deg = m->get("fan_min_deg", a.fan.min_deg, {-180.0, 180.0});
+    a.fan.max_deg = m->get("fan_max_deg", a.fan.max_deg, {-180.0, 180.0});
+    a.fan.bin_width_deg = m->get("bin_width_deg", a.fan.bin_width_deg, {0.1, 90.0});
+    a.detection_range_m = m->get("detection_range_m", a.detection_range_m, kPositive);
+    a.half_beam_m = m->get("half_beam_m", a.half_beam_m, kNonNegative);
+    a.clearance_m = m->get("clearance_m", a.clearance_m, kNonNegative);
+    a.slow_down_range_m = m->get("slow_down_range_m", a.slow_down_range_m, kNonNegative);
+    a.min_speed_factor = m->get("min_speed_factor", a.min_speed_factor, kFrac);
+    a.shrink_factor = m->get("shrink_factor", a.shrink_factor, kFrac);
+    a.min_detection_range_m = m->get("min_detection_range_m", a.min_detection_range_m, kPositive);
+    a.blocked_speed_factor = m->get("blocked_speed_factor", a.blocked_speed_factor, kFrac);
+    a.all_blocked_policy = m->get_enum("all_blocked", a.all_blocked_policy,
+                                       {{"stop", guidance::AllBlockedPolicy::kStop},
+                                        {"back_off", guidance::AllBlockedPolicy::kBackOff}});
+    a.back_off_speed_factor = m->get("back_off_speed_factor", a.back_off_speed_factor, kFrac);
+    a.hysteresis_deg = m->get("hysteresis_deg", a.hysteresis_deg, {0.0, 180.0});
+    a.hold_time_s = m->get("hold_time_s", a.hold_time_s, kNonNegative);
+    if (auto sc = m->map("score")) {
+      a.score_goal_weight = sc->get("goal_weight", a.score_goal_weight, kNonNegative);
+      a.score_distance_weight = sc->get("distance_weight", a.score_distance_weight, kNonNegative);
+      a.score_angle_weight = sc->get("angle_weight", a.score_angle_weight, kNonNegative);
+      a.score_block_range_m = sc->get("block_range_m", a.score_block_range_m, kNonNegative);
+      sc->finish();
+    }
+    if (auto r = m->map("risk")) {
+      a.risk_gain_per_m = r->get("gain_per_m", a.risk_gain_per_m, kPositive);
+      a.risk_offset = r->get("offset", a.risk_offset, {-100.0, 100.0});
+      a.risk_max = r->get("max", a.risk_max, kPositive);
+      a.risk_threshold = r->get("threshold", a.risk_threshold, kPositive);
+      r->finish();
+    }
+    a.naive_margin_deg = m->get("naive_margin_deg", a.naive_margin_deg, {0.0, 90.0});
+    check(*m, a.validate());
+    m->finish();
+  }
+  if (auto m = root.map("clustering")) {
+    auto& c = mission.clustering;
+    c.group_gap_m = m->get("group_gap_m", c.group_gap_m, kNonNegative);
+    c.group_gap_per_m = m->get("group_gap_per_m", c.group_gap_per_m, kNonNegative);
+    c.min_group_points = m->get("min_group_points", c.min_group_points, {1U, 4096U});
+    c.split_distance_m = m->get("split_distance_m", c.split_distance_m, kNonNegative);
+    c.split_distance_per_m = m->get("split_distance_per_m", c.split_distance_per_m, kNonNegative);
+    c.min_split_points = m->get("min_split_points", c.min_split_points, {1U, 4096U});
+    c.wall_min_length_m = m->get("wall_min_length_m", c.wall_min_length_m, kNonNegative);
+    c.wall_piece_max_length_m =
+        m->get("wall_piece_max_length_m", c.wall_piece_max_length_m, kPositive);
+    c.min_range_m = m->get("min_range_m", c.min_range_m, kNonNegative);
+    c.max_range_m = m->get("max_range_m", c.max_range_m, kPositive);
+    if (auto h = m->map("hull_box")) {
+      c.hull.forward_min_m = h->get("forward_min_m", c.hull.forward_min_m, {-50.0, 50.0});
+      c.hull.forward_max_m = h->get("forward_max_m", c.hull.forward_max_m, {-50.0, 50.0});
+      c.hull.starboard_min_m = h->get("starboard_min_m", c.hull.starboard_min_m, {-50.0, 50.0});
+      c.hull.starboard_max_m = h->get("starboard_max_m", c.hull.starboard_max_m, {-50.0, 50.0});
+      h->finish();
+    }
+    c.profile_bin_width_deg = m->get("profile_bin_width_deg", c.profile_bin_width_deg, kPositive);
+    c.line_fit = m->get("line_fit", c.line_fit);
+    c.merge_across_seam = m->get("merge_across_seam", c.merge_across_seam);
+    check(*m, c.validate());
+    m->finish();
+  }
+  if (auto m = root.map("vision_vote")) {
+    auto& v = mission.vision_vote;
+    v.window_ns = core::sec_to_ns(m->get("window_s", core::ns_to_sec(v.window_ns), {0.05, 600.0}));
+    v.min_ratio = m->get("min_ratio", v.min_ratio, {0.01, 1.0});
+    v.min_frames = m->get<std::size_t>("min_frames", v.min_frames, {1, 256});
+    v.min_span_ns =
+        core::sec_to_ns(m->get("min_span_s", core::ns_to_sec(v.min_span_ns), {0.0, 600.0}));
+    if (v.min_span_ns > v.window_ns) m->error("min_span_s", "must not exceed window_s");
+    m->finish();
+  }
+  if (auto m = root.map("course1")) {
+    auto& c = mission.course1;
+    c.turn_deg = m->get("turn_deg", c.turn_deg, {-180.0, 180.0});
+    c.search_timeout_s = m->get("search_timeout_s", c.search_timeout_s, {0.0, 600.0});
+    c.search_thrust_frac = m->get("search_thrust_frac", c.search_thrust_frac, kFrac);
+    c.buoy_colour = read_colour(*m, "buoy_colour");
+    if (!m->has("buoy_colour")) c.buoy_colour = msg::Colour::kPurple;
+    m->finish();
+  }
+  if (auto m = root.map("course2")) {
+    auto& c = mission.course2;
+    auto& b = c.circling;
+    b.target_bearing_deg = m->get("target_bearing_deg", b.target_bearing_deg, kAngleDeg);
+    b.target_distance_m = m->get("target_distance_m", b.target_distance_m, kPositive);
+    b.bearing_gain = m->get("bearing_gain", b.bearing_gain, kPositive);
+    b.distance_gain_deg_per_m =
+        m->get("distance_gain_deg_per_m", b.distance_gain_deg_per_m, kNonNegative);
+    b.max_distance_correction_deg =
+        m->get("max_distance_correction_deg", b.max_distance_correction_deg, {0.0, 180.0});
+    b.max_turn_deg = m->get("max_turn_deg", b.max_turn_deg, {0.0, 180.0});
+    b.search_turn_deg = m->get("search_turn_deg", b.search_turn_deg, {0.0, 180.0});
+    b.complete_turn_deg = m->get("complete_turn_deg", b.complete_turn_deg, {1.0, 3600.0});
+    b.max_heading_step_deg = m->get("max_heading_step_deg", b.max_heading_step_deg, kAngleDeg);
+    check(*m, b.validate());
+    c.circling_thrust_frac = m->get("circling_thrust_frac", c.circling_thrust_frac, kFrac);
+    c.exit_course_deg = m->get("exit_course_deg", c.exit_course_deg, {-180.0, 180.0});
+    c.colour_timeout_s = m->get("colour_timeout_s", c.colour_timeout_s, {0.0, 3600.0});
+    c.seek_thrust_frac = m->get("seek_thrust_frac", c.seek_thrust_frac, kFrac);
+    c.buoy_range_window_deg = m->get("buoy_range_window_deg", c.buoy_range_window_deg, {0.0, 45.0});
+    c.buoy_memory_s = m->get("buoy_memory_s", c.buoy_memory_s, {0.0, 10.0});
+    c.buoy_colour = read_colour(*m, "buoy_colour");
+    if (!m->has("buoy_colour")) c.buoy_colour = msg::Colour::kPurple;
+    if (m->has("colours")) {
+      c.colours.clear();
+      const auto list = m->sequence("colours");
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string name = list[i].IsScalar() ? list[i].Scalar() : std::string{};
+        bool found = false;
+        for (auto col : {msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue,
+                         msg::Colour::kYellow, msg::Colour::kOrange, msg::Colour::kPurple,
+                         msg::Colour::kBlack, msg::Colour::kWhite}) {
+          if (name == msg::colour_name(col)) {
+            c.colours.push_back(col);
+            found = true;
+          }
+        }
+        if (!found)
+          m->error("colours", "unknown colour '" + name + "' at index " + std::to_string(i));
+      }
+      if (c.colours.empty() || c.colours.size() > 8)
+        m->error("colours", "must list 1 to 8 colours");
+    }
+    m->finish();
+  }
+  if (auto m = root.map("docking")) {
+    auto& d = mission.docking;
+    auto& a = d.approach;
+    a.lookahead_m = m->get("lookahead_m", a.lookahead_m, kPositive);
+    a.stop_range_m = m->get("stop_range_m", a.stop_range_m, kPositive);
+    a.marker_gain = m->get("marker_gain", a.marker_gain, kNonNegative);
+    a.max_marker_turn_deg = m->get("max_marker_turn_deg", a.max_marker_turn_deg, {0.0, 180.0});
+    a.ahead_half_angle_deg = m->get("ahead_half_angle_deg", a.ahead_half_angle_deg, {0.5, 90.0});
+    check(*m, a.validate());
+    d.decision_distance_m = m->get("decision_distance_m", d.decision_distance_m, kPositive);
+    d.face_time_s = m->get("face_time_s", d.face_time_s, {0.1, 600.0});
+    d.face_tolerance_deg = m->get("face_tolerance_deg", d.face_tolerance_deg, {0.5, 90.0});
+    d.marker_window_deg = m->get("marker_window_deg", d.marker_window_deg, {0.5, 90.0});
+    d.approach_thrust_frac = m->get("approach_thrust_frac", d.approach_thrust_frac, kFrac);
+    d.open_window_deg = m->get("open_window_deg", d.open_window_deg, {0.0, 45.0});
+    d.open_max_range_m = m->get("open_max_range_m", d.open_max_range_m, kPositive);
+    m->finish();
+  }
+}
+
 }  // namespace
 
 BoatConfig load_boat_config(const std::string& path, ConfigErrors& errors) {
@@ -237,6 +463,7 @@ MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors)
                                           {"arduino_switch", StartMode::kArduinoSwitch},
                                           {"control", StartMode::kControl}});
     mission.calibrate_gps_at_start = start->get("calibrate_gps", true);
+    mission.require_arduino = start->get("require_arduino", true);
     start->finish();
   }
   if (auto stale = root.map("stale_after_ms")) {
@@ -247,6 +474,7 @@ MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors)
     mission.arduino_stale_ms = stale->get("arduino", mission.arduino_stale_ms, kStaleMs);
     stale->finish();
   }
+  read_engines(root, mission);
   const auto tasks = root.sequence("tasks", true);
   if (tasks.empty() && root.has("tasks")) root.error("tasks", "must list at least one task");
   for (std::size_t i = 0; i < tasks.size(); ++i) {
@@ -262,6 +490,27 @@ MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors)
     if (!t->has("type")) t->error("type", "is required");
     task.name = t->get<std::string>("name", std::string(task_type_name(task.type)));
     task.time_limit_s = t->get("time_limit_s", 300.0, {1.0, 7200.0});
+    task.on_timeout = t->get_enum(
+        "on_timeout", TimeoutOutcome::kNextTask,
+        {{"next_task", TimeoutOutcome::kNextTask}, {"finish", TimeoutOutcome::kFinish}});
+    task.docking_style = t->get_enum(
+        "style", DockingStyle::kKaboat2022,
+        {{"kaboat2022", DockingStyle::kKaboat2022}, {"course3", DockingStyle::kCourse3}});
+    if (t->has("style") && task.type != TaskType::kDocking) {
+      t->error("style", "applies to docking tasks only");
+    }
+    const auto slips = t->sequence("slips");
+    for (std::size_t w = 0; w < slips.size(); ++w) {
+      auto sp = t->element(slips[w], w, "slips");
+      if (!sp) continue;
+      task.slips.push_back(read_geo(*sp));
+      sp->finish();
+    }
+    task.dock_heading_deg = t->get("dock_heading_deg", 0.0, {-180.0, 180.0});
+    if (task.type == TaskType::kDocking && task.docking_style == DockingStyle::kKaboat2022 &&
+        task.slips.empty()) {
+      t->error("slips", "a kaboat2022 docking task needs at least one slip");
+    }
     const auto waypoints = t->sequence("waypoints");
     for (std::size_t w = 0; w < waypoints.size(); ++w) {
       auto wp = t->element(waypoints[w], w, "waypoints");
@@ -271,6 +520,15 @@ MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors)
     }
     task.target_colour = read_colour(*t, "target_colour");
     task.target_shape = read_shape(*t, "target_shape");
+    if ((task.type == TaskType::kObstacleCourse || task.type == TaskType::kCourse1 ||
+         task.type == TaskType::kCourse2) &&
+        task.waypoints.empty() && t->has("type")) {
+      t->error("waypoints", "this task needs at least one waypoint");
+    }
+    if (task.waypoints.size() > guidance::WaypointFollower::kMaxWaypoints ||
+        task.slips.size() > 8) {
+      t->error("waypoints", "at most 64 waypoints and 8 slips per task");
+    }
     if (task.type == TaskType::kHopping && task.waypoints.size() < 2) {
       t->error("waypoints", "a hopping task needs at least two waypoints");
     }
@@ -334,6 +592,170 @@ void emit_serial(YAML::Emitter& out, const SerialDeviceConfig& d) {
   kv(out, "path", d.path);
   kv(out, "baud", d.baud);
   kv(out, "timeout_ms", d.timeout_ms);
+}
+
+void begin(YAML::Emitter& out, const char* key, bool flow = false) {
+  out << YAML::Key << key << YAML::Value;
+  if (flow) out << YAML::Flow;
+  out << YAML::BeginMap;
+}
+
+// The engine sections, in the mission file's own layout (so the printout loads back).
+void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
+  if (m.navigation.course_zero_deg) {
+    begin(out, "course_frame", true);
+    kv(out, "zero_heading_deg", *m.navigation.course_zero_deg);
+    out << YAML::EndMap;
+  }
+  begin(out, "navigation", true);
+  kv(out, "heading_filter_tau_s", m.navigation.heading_filter_tau_s);
+  out << YAML::EndMap;
+  const auto& g = m.gps_calibration;
+  begin(out, "gps_calibration", true);
+  kv(out, "min_fixes", g.min_fixes);
+  kv(out, "window", g.window);
+  kv(out, "max_spread_m", g.max_spread_m);
+  kv(out, "max_offset_m", g.max_offset_m);
+  out << YAML::EndMap;
+  const auto& w = m.waypoints;
+  begin(out, "waypoints");
+  kv(out, "arrival_radius_m", w.arrival_radius_m);
+  kv(out, "slip_radius_m", w.slip_radius_m);
+  kv(out, "line_following", w.line_following);
+  kv(out, "lookahead_m", w.line.lookahead_m);
+  kv(out, "integral_gain", w.line.integral_gain);
+  kv(out, "max_integral_m", w.line.max_integral_m);
+  kv(out, "max_dt_s", w.line.max_dt_s);
+  out << YAML::EndMap;
+  const auto& h = m.heading_pid;
+  begin(out, "heading_pid");
+  kv(out, "kp_per_deg", h.kp_per_deg);
+  kv(out, "ki_per_deg_s", h.ki_per_deg_s);
+  kv(out, "kd_per_dps", h.kd_per_dps);
+  kv(out, "output_limit", h.output_limit);
+  kv(out, "integral_zone_deg", h.integral_zone_deg);
+  kv(out, "integral_limit", h.integral_limit);
+  kv(out, "tracking_gain_per_s", h.tracking_gain_per_s);
+  kv(out, "derivative_tau_s", h.derivative_tau_s);
+  kv(out, "max_dt_s", h.max_dt_s);
+  kv(out, "reversal_hold_deg", h.reversal_hold_deg);
+  out << YAML::EndMap;
+  const auto& sp = m.speed;
+  begin(out, "speed");
+  kv(out, "min_thrust_frac", sp.min_thrust_frac);
+  kv(out, "max_thrust_frac", sp.max_thrust_frac);
+  kv(out, "slow_distance_m", sp.slow_distance_m);
+  kv(out, "fast_distance_m", sp.fast_distance_m);
+  kv(out, "rise_per_s", sp.rise_per_s);
+  kv(out, "fall_per_s", sp.fall_per_s);
+  kv(out, "cruise_thrust_frac", m.cruise_thrust_frac);
+  out << YAML::EndMap;
+  const auto& a = m.avoidance;
+  begin(out, "avoidance");
+  kv(out, "strategy", std::string(guidance::to_string(a.strategy)));
+  kv(out, "fan_min_deg", a.fan.min_deg);
+  kv(out, "fan_max_deg", a.fan.max_deg);
+  kv(out, "bin_width_deg", a.fan.bin_width_deg);
+  kv(out, "detection_range_m", a.detection_range_m);
+  kv(out, "half_beam_m", a.half_beam_m);
+  kv(out, "clearance_m", a.clearance_m);
+  kv(out, "slow_down_range_m", a.slow_down_range_m);
+  kv(out, "min_speed_factor", a.min_speed_factor);
+  kv(out, "shrink_factor", a.shrink_factor);
+  kv(out, "min_detection_range_m", a.min_detection_range_m);
+  kv(out, "blocked_speed_factor", a.blocked_speed_factor);
+  kv(out, "all_blocked",
+     a.all_blocked_policy == guidance::AllBlockedPolicy::kStop ? "stop" : "back_off");
+  kv(out, "back_off_speed_factor", a.back_off_speed_factor);
+  kv(out, "hysteresis_deg", a.hysteresis_deg);
+  kv(out, "hold_time_s", a.hold_time_s);
+  begin(out, "score", true);
+  kv(out, "goal_weight", a.score_goal_weight);
+  kv(out, "distance_weight", a.score_distance_weight);
+  kv(out, "angle_weight", a.score_angle_weight);
+  kv(out, "block_range_m", a.score_block_range_m);
+  out << YAML::EndMap;
+  begin(out, "risk", true);
+  kv(out, "gain_per_m", a.risk_gain_per_m);
+  kv(out, "offset", a.risk_offset);
+  kv(out, "max", a.risk_max);
+  kv(out, "threshold", a.risk_threshold);
+  out << YAML::EndMap;
+  kv(out, "naive_margin_deg", a.naive_margin_deg);
+  out << YAML::EndMap;
+  const auto& c = m.clustering;
+  begin(out, "clustering");
+  kv(out, "group_gap_m", c.group_gap_m);
+  kv(out, "group_gap_per_m", c.group_gap_per_m);
+  kv(out, "min_group_points", c.min_group_points);
+  kv(out, "split_distance_m", c.split_distance_m);
+  kv(out, "split_distance_per_m", c.split_distance_per_m);
+  kv(out, "min_split_points", c.min_split_points);
+  kv(out, "wall_min_length_m", c.wall_min_length_m);
+  kv(out, "wall_piece_max_length_m", c.wall_piece_max_length_m);
+  kv(out, "min_range_m", c.min_range_m);
+  kv(out, "max_range_m", c.max_range_m);
+  begin(out, "hull_box", true);
+  kv(out, "forward_min_m", c.hull.forward_min_m);
+  kv(out, "forward_max_m", c.hull.forward_max_m);
+  kv(out, "starboard_min_m", c.hull.starboard_min_m);
+  kv(out, "starboard_max_m", c.hull.starboard_max_m);
+  out << YAML::EndMap;
+  kv(out, "profile_bin_width_deg", c.profile_bin_width_deg);
+  kv(out, "line_fit", c.line_fit);
+  kv(out, "merge_across_seam", c.merge_across_seam);
+  out << YAML::EndMap;
+  const auto& v = m.vision_vote;
+  begin(out, "vision_vote", true);
+  kv(out, "window_s", core::ns_to_sec(v.window_ns));
+  kv(out, "min_ratio", v.min_ratio);
+  kv(out, "min_frames", v.min_frames);
+  kv(out, "min_span_s", core::ns_to_sec(v.min_span_ns));
+  out << YAML::EndMap;
+  const auto& c1 = m.course1;
+  begin(out, "course1");
+  kv(out, "turn_deg", c1.turn_deg);
+  kv(out, "search_timeout_s", c1.search_timeout_s);
+  kv(out, "search_thrust_frac", c1.search_thrust_frac);
+  kv(out, "buoy_colour", std::string(msg::colour_name(c1.buoy_colour)));
+  out << YAML::EndMap;
+  const auto& c2 = m.course2;
+  const auto& b = c2.circling;
+  begin(out, "course2");
+  kv(out, "buoy_colour", std::string(msg::colour_name(c2.buoy_colour)));
+  kv(out, "target_bearing_deg", b.target_bearing_deg);
+  kv(out, "target_distance_m", b.target_distance_m);
+  kv(out, "bearing_gain", b.bearing_gain);
+  kv(out, "distance_gain_deg_per_m", b.distance_gain_deg_per_m);
+  kv(out, "max_distance_correction_deg", b.max_distance_correction_deg);
+  kv(out, "max_turn_deg", b.max_turn_deg);
+  kv(out, "search_turn_deg", b.search_turn_deg);
+  kv(out, "complete_turn_deg", b.complete_turn_deg);
+  kv(out, "max_heading_step_deg", b.max_heading_step_deg);
+  kv(out, "circling_thrust_frac", c2.circling_thrust_frac);
+  kv(out, "buoy_range_window_deg", c2.buoy_range_window_deg);
+  kv(out, "buoy_memory_s", c2.buoy_memory_s);
+  kv(out, "exit_course_deg", c2.exit_course_deg);
+  kv(out, "seek_thrust_frac", c2.seek_thrust_frac);
+  kv(out, "colour_timeout_s", c2.colour_timeout_s);
+  out << YAML::Key << "colours" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (const msg::Colour col : c2.colours) out << std::string(msg::colour_name(col));
+  out << YAML::EndSeq << YAML::EndMap;
+  const auto& d = m.docking;
+  begin(out, "docking");
+  kv(out, "lookahead_m", d.approach.lookahead_m);
+  kv(out, "stop_range_m", d.approach.stop_range_m);
+  kv(out, "marker_gain", d.approach.marker_gain);
+  kv(out, "max_marker_turn_deg", d.approach.max_marker_turn_deg);
+  kv(out, "ahead_half_angle_deg", d.approach.ahead_half_angle_deg);
+  kv(out, "decision_distance_m", d.decision_distance_m);
+  kv(out, "face_time_s", d.face_time_s);
+  kv(out, "face_tolerance_deg", d.face_tolerance_deg);
+  kv(out, "marker_window_deg", d.marker_window_deg);
+  kv(out, "approach_thrust_frac", d.approach_thrust_frac);
+  kv(out, "open_window_deg", d.open_window_deg);
+  kv(out, "open_max_range_m", d.open_max_range_m);
+  out << YAML::EndMap;
 }
 
 }  // namespace
@@ -439,6 +861,7 @@ std::string to_yaml(const Configuration& c) {
      : m.start_mode == StartMode::kArduinoSwitch ? "arduino_switch"
                                                  : "control");
   kv(out, "calibrate_gps", m.calibrate_gps_at_start);
+  kv(out, "require_arduino", m.require_arduino);
   out << YAML::EndMap;
   out << YAML::Key << "stale_after_ms" << YAML::Value << YAML::Flow << YAML::BeginMap;
   kv(out, "lidar", m.lidar_stale_ms);
@@ -446,12 +869,28 @@ std::string to_yaml(const Configuration& c) {
   kv(out, "gnss", m.gnss_stale_ms);
   kv(out, "arduino", m.arduino_stale_ms);
   out << YAML::EndMap;
+  emit_engines(out, m);
   out << YAML::Key << "tasks" << YAML::Value << YAML::BeginSeq;
   for (const TaskConfig& t : m.tasks) {
     out << YAML::BeginMap;
     kv(out, "type", std::string(task_type_name(t.type)));
     kv(out, "name", t.name);
     kv(out, "time_limit_s", t.time_limit_s);
+    kv(out, "on_timeout", t.on_timeout == TimeoutOutcome::kNextTask ? "next_task" : "finish");
+    if (t.type == TaskType::kDocking) {
+      kv(out, "style", t.docking_style == DockingStyle::kKaboat2022 ? "kaboat2022" : "course3");
+      kv(out, "dock_heading_deg", t.dock_heading_deg);
+    }
+    if (!t.slips.empty()) {
+      out << YAML::Key << "slips" << YAML::Value << YAML::BeginSeq;
+      for (const auto& w : t.slips) {
+        out << YAML::Flow << YAML::BeginMap;
+        kv(out, "lat_deg", w.lat_deg);
+        kv(out, "lon_deg", w.lon_deg);
+        out << YAML::EndMap;
+      }
+      out << YAML::EndSeq;
+    }
     if (!t.waypoints.empty()) {
       out << YAML::Key << "waypoints" << YAML::Value << YAML::BeginSeq;
       for (const auto& w : t.waypoints) {

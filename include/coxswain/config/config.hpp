@@ -10,10 +10,19 @@
 #include <vector>
 
 #include "coxswain/config/yaml_reader.hpp"
+#include "coxswain/control/heading_pid.hpp"
+#include "coxswain/control/speed_schedule.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/geodesy.hpp"
+#include "coxswain/guidance/avoidance.hpp"
+#include "coxswain/guidance/buoy_circling.hpp"
+#include "coxswain/guidance/docking_approach.hpp"
+#include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/camera_detections.hpp"
+#include "coxswain/perception/lidar_clusterer.hpp"
+#include "coxswain/perception/marker_vote.hpp"
 
 namespace coxswain::config {
 
@@ -130,13 +139,63 @@ struct DevicesConfig {
 enum class StartMode : std::uint8_t { kImmediate = 0, kArduinoSwitch, kControl };
 enum class TaskType : std::uint8_t { kHopping = 0, kObstacleCourse, kCourse1, kCourse2, kDocking };
 
+/// What happens when a task's time limit runs out: the 2026 contest moves on to the next course.
+enum class TimeoutOutcome : std::uint8_t { kNextTask = 0, kFinish };
+/// Docking: KABOAT 2022 (visit the slips, vote on their markers, enter the target by ray
+/// pursuit) or 2026 course 3 (most open direction in the course's forward half-plane).
+enum class DockingStyle : std::uint8_t { kKaboat2022 = 0, kCourse3 };
+
 struct TaskConfig {
   TaskType type = TaskType::kHopping;
   std::string name;
   double time_limit_s = 300.0;
+  TimeoutOutcome on_timeout = TimeoutOutcome::kNextTask;
   std::vector<core::GeoPoint> waypoints;
   msg::Colour target_colour = msg::Colour::kUnknown;
   msg::Shape target_shape = msg::Shape::kUnknown;
+  DockingStyle docking_style = DockingStyle::kKaboat2022;
+  std::vector<core::GeoPoint> slips;  // 2022 docking: slip entrances, in visiting order
+  double dock_heading_deg = 0.0;      // 2022 docking: true heading pointing into the slips
+};
+
+/// Course 1 (2026): after the first waypoint, turn to starboard until the camera sees the buoy.
+struct Course1Config {
+  double turn_deg = 45.0;           // relative to the heading at the waypoint, + starboard
+  double search_timeout_s = 3.0;    // then move on to course 2 anyway
+  double search_thrust_frac = 0.4;  // thrust while turning
+  msg::Colour buoy_colour = msg::Colour::kPurple;
+};
+
+/// Course 2 (2026): circle the buoy once on the camera side, find the target colour, go on.
+struct Course2Config {
+  guidance::BuoyCirclingParams circling;
+  double circling_thrust_frac = 0.4;
+  double exit_course_deg = -90.0;  // course-frame heading held while looking for the colour
+  double colour_timeout_s = 30.0;  // no colour by then: go to the waypoint with the LED off
+  double seek_thrust_frac = 0.4;
+  double buoy_range_window_deg = 3.0;  // lidar bins either side of the camera bearing
+  double buoy_memory_s = 0.25;         // a camera bearing older than this is not steered on
+  std::vector<msg::Colour> colours{msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue};
+  msg::Colour buoy_colour = msg::Colour::kPurple;
+};
+
+/// Docking, both styles.
+struct DockingConfig {
+  guidance::DockingApproachParams approach;
+  double decision_distance_m = 4.0;    // 2022: where the boat stops to look, before each slip
+  double face_time_s = 8.0;            // 2022: longest look at one slip before moving on
+  double face_tolerance_deg = 15.0;    // 2022: votes count only when facing within this
+  double marker_window_deg = 15.0;     // 2022: only markers this near the bow are the slip's
+  double approach_thrust_frac = 0.35;  // both: thrust while entering
+  double open_window_deg = 10.0;       // 2026: a direction's range is the minimum over +- this
+  double open_max_range_m = 15.0;      // 2026: ranges are capped here (no return = this far)
+};
+
+/// Navigation estimate (inside the core).
+struct NavigationConfig {
+  double heading_filter_tau_s = 0.1;  // wrap-safe low-pass of the IMU heading
+  /// True heading of the course frame's 0 deg; empty = the heading when the mission starts.
+  std::optional<double> course_zero_deg;
 };
 
 struct MissionConfig {
@@ -148,9 +207,25 @@ struct MissionConfig {
   bool calibrate_gps_at_start = true;
   std::uint32_t lidar_stale_ms = 300;
   std::uint32_t imu_stale_ms = 200;
-  std::uint32_t gnss_stale_ms = 1500;
+  std::uint32_t gnss_stale_ms = 450;  // 5 Hz fixes: one may be lost; hold within 0.5 s
   std::uint32_t arduino_stale_ms = 500;
+  /// Autonomy needs a live Arduino in autonomous mode; false only for bench runs without one.
+  bool require_arduino = true;
   std::vector<TaskConfig> tasks;
+
+  // Engine parameters (every one in the mission file; see config/missions/*.yaml).
+  NavigationConfig navigation;
+  guidance::GpsCalibrationParams gps_calibration;
+  guidance::WaypointFollowerParams waypoints;
+  control::HeadingPidParams heading_pid;
+  control::SpeedScheduleParams speed;
+  double cruise_thrust_frac = 0.7;  // avoidance tasks, before the avoidance speed factor
+  guidance::AvoidanceParams avoidance;
+  perception::LidarClusterParams clustering;
+  perception::MarkerVoteParams vision_vote;
+  Course1Config course1;
+  Course2Config course2;
+  DockingConfig docking;
 };
 
 /// Everything a run is configured with.

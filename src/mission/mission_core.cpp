@@ -1,0 +1,614 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/mission/mission_core.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+#include "coxswain/control/actuator_mixer.hpp"
+#include "coxswain/control/filters.hpp"
+#include "coxswain/control/heading_pid.hpp"
+#include "coxswain/control/speed_schedule.hpp"
+#include "coxswain/core/angles.hpp"
+#include "coxswain/core/geodesy.hpp"
+#include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/perception/lidar_clusterer.hpp"
+#include "tasks.hpp"
+
+namespace coxswain::mission {
+
+std::string_view hold_reason_name(HoldReason r) {
+  switch (r) {
+    case HoldReason::kNone:
+      return "none";
+    case HoldReason::kLidarStale:
+      return "lidar_stale";
+    case HoldReason::kImuStale:
+      return "imu_stale";
+    case HoldReason::kGnssStale:
+      return "gnss_stale";
+    case HoldReason::kArduinoStale:
+      return "arduino_stale";
+    case HoldReason::kManualMode:
+      return "manual_mode";
+    case HoldReason::kEstop:
+      return "estop";
+    case HoldReason::kOperator:
+      return "operator";
+  }
+  return "unknown";
+}
+
+namespace {
+
+using detail::GuidanceRequest;
+using detail::reason_printf;
+using detail::Task;
+using detail::TaskContext;
+using detail::TaskResult;
+
+control::MixerConfig mixer_config(const config::ActuatorsConfig& a) {
+  control::MixerConfig mc;
+  mc.layout = a.layout;
+  mc.servo.center_us = a.servo.center_us;
+  mc.servo.min_us = a.servo.min_us;
+  mc.servo.max_us = a.servo.max_us;
+  mc.servo.max_deflection_deg = a.servo.max_deflection_deg;
+  mc.servo.sign = a.servo.reversed ? -1 : 1;
+  control::ThrusterConfig t;
+  t.neutral_us = a.thruster.neutral_us;
+  t.min_us = a.thruster.min_us;
+  t.max_us = a.thruster.max_us;
+  t.forward_start_us = a.thruster.forward_start_us;
+  t.forward_max_us = a.thruster.max_us;
+  t.reverse_start_us = a.thruster.reverse_start_us;
+  t.reverse_max_us = a.thruster.min_us;
+  t.reverse_allowed = a.thruster.reverse_allowed;
+  mc.thruster = t;
+  mc.twin.track_width_m = a.twin_track_width_m;
+  mc.twin.port = t;
+  mc.twin.starboard = t;
+  if (auto e = mc.validate()) throw std::invalid_argument("actuators: " + *e);
+  return mc;
+}
+
+template <class T>
+bool fresh(const core::Sample<T>& s, core::TimeNs now_ns, std::uint32_t limit_ms) {
+  return s.valid() && !s.is_stale(now_ns, core::ms_to_ns(limit_ms));
+}
+
+// A driver that reports its device gone (port vanished, open failed) after the last sample it
+// delivered: the device is down now, without waiting for the sample to age out.
+bool device_down(const core::Snapshot& s, msg::DeviceId id, core::TimeNs last_sample_ns) {
+  const auto& h = s.health[static_cast<std::size_t>(id)];
+  if (!h.valid()) return false;
+  const msg::DeviceState st = h.value.state;
+  const bool down = st == msg::DeviceState::kAbsent || st == msg::DeviceState::kError ||
+                    st == msg::DeviceState::kStale;
+  return down && h.stamp_ns >= last_sample_ns;
+}
+
+double age_ms(const core::TimeNs age_ns) {
+  return age_ns == INT64_MAX ? -1.0 : static_cast<double>(age_ns) / 1e6;
+}
+
+}  // namespace
+
+struct MissionCore::Impl {
+  enum class Top : std::uint8_t { kWaitForStart, kActive, kFinished };
+
+  explicit Impl(const config::Configuration& c)
+      : m(c.mission),
+        camera_timeout_ms(c.devices.camera.timeout_ms),
+        gnss_mount(c.boat.mounts.gnss),
+        frame(c.mission.origin),
+        mixer(mixer_config(c.boat.actuators)),
+        pid(c.mission.heading_pid),
+        schedule(c.mission.speed),
+        ramp({c.mission.speed.rise_per_s, c.mission.speed.fall_per_s}),
+        heading_filter({c.mission.navigation.heading_filter_tau_s}),
+        calibration(c.mission.gps_calibration, core::NavPoint{}),
+        clusterer(c.mission.clustering) {
+    if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
+    if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
+    if (auto e = m.gps_calibration.validate()) throw std::invalid_argument(*e);
+    if (auto e = m.waypoints.validate()) throw std::invalid_argument(*e);
+    if (m.tasks.empty()) throw std::invalid_argument("mission has no tasks");
+    tasks.reserve(m.tasks.size());
+    for (const auto& t : m.tasks) {
+      tasks.push_back(detail::make_task(t, m, c.devices, frame));
+      needs_union |= tasks.back()->needs();
+    }
+    status.task_count = static_cast<std::uint32_t>(tasks.size());
+    path.assign("wait_for_start");
+  }
+
+  // ---- per-tick inputs ----------------------------------------------------------------------
+
+  void update_inputs(const core::Snapshot& s, core::TimeNs now) {
+    lidar_fresh = fresh(s.lidar, now, m.lidar_stale_ms) &&
+                  !device_down(s, msg::DeviceId::kLidar, s.lidar.stamp_ns);
+    imu_fresh =
+        fresh(s.imu, now, m.imu_stale_ms) && !device_down(s, msg::DeviceId::kImu, s.imu.stamp_ns);
+    gnss_fresh = fresh(s.gnss, now, m.gnss_stale_ms) &&
+                 !device_down(s, msg::DeviceId::kGnss, s.gnss.stamp_ns);
+    arduino_fresh = fresh(s.arduino, now, m.arduino_stale_ms) &&
+                    !device_down(s, msg::DeviceId::kArduino, s.arduino.stamp_ns);
+    camera_fresh = fresh(s.camera, now, camera_timeout_ms);
+
+    lidar_new = s.lidar.valid() && s.lidar.sequence != lidar_seq;
+    if (lidar_new) {
+      lidar_seq = s.lidar.sequence;
+      clusterer.process(s.lidar.value, obstacles, profile);
+    }
+    camera_new = s.camera.valid() && s.camera.sequence != camera_seq;
+    if (camera_new) camera_seq = s.camera.sequence;
+
+    if (s.imu.valid() && s.imu.sequence != imu_seq) {
+      imu_seq = s.imu.sequence;
+      if (std::isfinite(s.imu.value.heading_deg)) {
+        heading_deg = heading_filter.update(s.imu.value.heading_deg, s.imu.stamp_ns);
+        heading_stamp_ns = s.imu.stamp_ns;
+        has_heading = true;
+      }
+      yaw_rate_dps.reset();
+      if (s.imu.value.has_inertial && std::isfinite(s.imu.value.gyro_dps[2])) {
+        yaw_rate_dps = s.imu.value.gyro_dps[2];
+      }
+    }
+    heading_valid = imu_fresh && has_heading && std::isfinite(s.imu.value.heading_deg);
+
+    if (s.gnss.valid() && s.gnss.sequence != gnss_seq) {
+      gnss_seq = s.gnss.sequence;
+      fix_usable = s.gnss.value.usable();
+      if (fix_usable) {
+        raw_antenna = frame.to_nav({s.gnss.value.lat_deg, s.gnss.value.lon_deg, 0.0});
+        has_fix = true;
+        if (top == Top::kWaitForStart && m.calibrate_gps_at_start) calibration.add(raw_antenna);
+      }
+    }
+    position_valid = gnss_fresh && fix_usable && has_fix;
+    update_pose();
+  }
+
+  void update_pose() {
+    antenna = offset.apply(raw_antenna);
+    // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
+    const core::NavPoint mount_offset =
+        core::body_to_nav(core::NavPose{{0.0, 0.0}, heading_deg}, {gnss_mount.x_m, gnss_mount.y_m});
+    pose.position = {antenna.north_m - mount_offset.north_m, antenna.east_m - mount_offset.east_m};
+    pose.heading_deg = heading_deg;
+  }
+
+  // ---- state paths and transitions ----------------------------------------------------------
+
+  StatePath build_path() const {
+    StatePath p;
+    switch (top) {
+      case Top::kWaitForStart:
+        p.assign("wait_for_start");
+        return p;
+      case Top::kFinished:
+        p.assign("finished");
+        return p;
+      case Top::kActive:
+        break;
+    }
+    const Task& t = *tasks[task_index];
+    (void)std::snprintf(p.chars.data(), p.chars.size(), "%s%.*s/%.*s", holding ? "hold/" : "",
+                        static_cast<int>(t.name().size()), t.name().data(),
+                        static_cast<int>(entered ? t.phase().size() : 7),
+                        entered ? t.phase().data() : "refused");
+    return p;
+  }
+
+  void transition(std::string_view reason, core::TimeNs now, CoreOutput& out) {
+    const StatePath next = build_path();
+    if (next.view() == path.view()) return;
+    TransitionLog& log = out.transitions;
+    if (log.count < TransitionLog::kCapacity) {
+      Transition& tr = log.entries[log.count++];
+      tr.stamp_ns = now;
+      tr.from = path;
+      tr.to = next;
+      tr.reason.assign(reason);
+    } else {
+      ++log.dropped;
+    }
+    path = next;
+    status.last_transition_reason.assign(reason);
+    ++status.transition_count;
+  }
+
+  // ---- safety layer -------------------------------------------------------------------------
+
+  /// First reason to hold, or kNone.
+  HoldReason hold_check(const core::Snapshot& s, core::TimeNs now, ReasonText& detail) const {
+    if (m.require_arduino) {
+      if (!arduino_fresh) {
+        detail = reason_printf("arduino silent for %.0f ms", age_ms(s.arduino.age_ns(now)));
+        return HoldReason::kArduinoStale;
+      }
+      if (s.arduino.value.estop) {
+        detail = reason_printf("arduino reports e-stop");
+        return HoldReason::kEstop;
+      }
+      if (s.arduino.value.mode != msg::ControlMode::kAutonomous) {
+        detail = reason_printf("arduino in manual mode");
+        return HoldReason::kManualMode;
+      }
+    }
+    if (s.operator_input.valid() && s.operator_input.value.hold) {
+      detail = reason_printf("operator hold");
+      return HoldReason::kOperator;
+    }
+    const std::uint8_t needs = tasks[task_index]->needs();
+    if ((needs & detail::kNeedLidar) != 0 && !lidar_fresh) {
+      detail = reason_printf("lidar stale (no scan for %.0f ms)", age_ms(s.lidar.age_ns(now)));
+      return HoldReason::kLidarStale;
+    }
+    if ((needs & detail::kNeedImu) != 0 && !imu_fresh) {
+      detail = reason_printf("imu stale (no sample for %.0f ms)", age_ms(s.imu.age_ns(now)));
+      return HoldReason::kImuStale;
+    }
+    if ((needs & detail::kNeedGnss) != 0) {
+      if (!gnss_fresh) {
+        detail = reason_printf("gnss stale (no fix for %.0f ms)", age_ms(s.gnss.age_ns(now)));
+        return HoldReason::kGnssStale;
+      }
+      // Mid-task a lost fix is a hold; before entry the task refuses instead.
+      if (entered && !fix_usable) {
+        detail = reason_printf("gnss reports no usable fix");
+        return HoldReason::kGnssStale;
+      }
+    }
+    return HoldReason::kNone;
+  }
+
+  /// Empty when every start condition holds, else the first one missing.
+  ReasonText start_blocker(const core::Snapshot& s, core::TimeNs now) {
+    if (m.require_arduino) {
+      if (!arduino_fresh) return reason_printf("arduino silent");
+      if (s.arduino.value.estop) return reason_printf("arduino reports e-stop");
+      if (s.arduino.value.mode != msg::ControlMode::kAutonomous) {
+        return reason_printf("arduino in manual mode");
+      }
+    }
+    if ((needs_union & detail::kNeedLidar) != 0 && !lidar_fresh) return reason_printf("no lidar");
+    if ((needs_union & detail::kNeedImu) != 0 && !imu_fresh) return reason_printf("no imu");
+    if ((needs_union & detail::kNeedGnss) != 0 && !gnss_fresh) return reason_printf("no gnss");
+    if (m.calibrate_gps_at_start) {
+      const guidance::CalibrationResult r = calibration.result();
+      if (r.status != guidance::CalibrationStatus::kOk) {
+        return reason_printf("gps calibration: %s (%zu fixes, spread %.2f m)",
+                             guidance::to_string(r.status), r.fix_count, r.spread_m);
+      }
+    }
+    switch (m.start_mode) {
+      case config::StartMode::kImmediate:
+        break;
+      case config::StartMode::kArduinoSwitch:
+        if (!arduino_fresh || !s.arduino.value.start_switch) {
+          return reason_printf("start switch");
+        }
+        break;
+      case config::StartMode::kControl:
+        if (!s.operator_input.valid() || s.operator_input.value.start_count == consumed_start) {
+          return reason_printf("start from the control interface");
+        }
+        break;
+    }
+    (void)now;
+    return {};
+  }
+
+  // ---- task level -----------------------------------------------------------------------------
+
+  TaskContext context(const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+    TaskContext c;
+    c.now_ns = now;
+    c.position_valid = position_valid;
+    c.heading_valid = heading_valid;
+    c.pose = pose;
+    c.antenna = antenna;
+    c.lidar_fresh = lidar_fresh && lidar_seq != 0;
+    c.lidar_new = lidar_new;
+    c.obstacles = &obstacles;
+    c.profile = &profile;
+    c.camera_fresh = camera_fresh;
+    c.camera_new = camera_new;
+    c.camera = s.camera.valid() ? &s.camera.value : nullptr;
+    const config::TaskConfig& tc = m.tasks[task_index];
+    c.target_colour = tc.target_colour;
+    c.target_shape = tc.target_shape;
+    if (s.operator_input.valid()) {
+      if (s.operator_input.value.target_colour != msg::Colour::kUnknown) {
+        c.target_colour = s.operator_input.value.target_colour;
+      }
+      if (s.operator_input.value.target_shape != msg::Shape::kUnknown) {
+        c.target_shape = s.operator_input.value.target_shape;
+      }
+    }
+    c.course_zero_deg = course_zero_deg;
+    c.task_elapsed_s = core::ns_to_sec(now - task_start_ns);
+    c.viz = &out.viz;
+    c.status = &status;
+    return c;
+  }
+
+  /// Tries to enter the current task; on refusal records why (counted once per new reason).
+  bool try_enter(const TaskContext& ctx) {
+    const ReasonText refusal = tasks[task_index]->enter(ctx);
+    if (refusal.empty()) {
+      entered = true;
+      status.waiting_for.assign("");
+      (void)tasks[task_index]->take_phase_change();
+      return true;
+    }
+    if (refusal.view() != status.waiting_for.view()) ++status.refusal_count;
+    status.waiting_for = refusal;
+    return false;
+  }
+
+  /// Leaves the current task and opens the next (or finishes); tries to enter it at once.
+  void next_task(std::string_view why, const core::Snapshot& s, core::TimeNs now, CoreOutput& out,
+                 bool finish = false) {
+    if (entered) tasks[task_index]->exit();
+    entered = false;
+    pid.reset();
+    if (finish || task_index + 1 >= tasks.size()) {
+      top = Top::kFinished;
+      status.finished = true;
+      finish_ns = now;
+      holding = false;
+      status.hold_reason = HoldReason::kNone;
+      transition(why, now, out);
+      return;
+    }
+    ++task_index;
+    task_start_ns = now;
+    open_task(why, s, now, out);
+  }
+
+  void open_task(std::string_view why, const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+    ReasonText reason;
+    reason.assign(why);
+    if (!holding) {
+      const TaskContext ctx = context(s, now, out);
+      if (!try_enter(ctx)) {
+        reason = reason_printf("%.*s; %.*s refused: %s", static_cast<int>(why.size()), why.data(),
+                               static_cast<int>(tasks[task_index]->name().size()),
+                               tasks[task_index]->name().data(), status.waiting_for.chars.data());
+      }
+    }
+    transition(reason.view(), now, out);
+  }
+
+  void step(const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+    out.transitions.count = 0;
+    out.transitions.dropped = 0;
+    out.viz = VizFrame{};
+    ++status.tick_count;
+    update_inputs(s, now);
+    GuidanceRequest req;
+
+    if (top == Top::kWaitForStart) {
+      const ReasonText blocker = start_blocker(s, now);
+      status.waiting_for = blocker;
+      if (blocker.empty()) start(s, now, out);
+    }
+    if (top == Top::kActive) run_active(s, now, out, req);
+
+    output(s, now, req, out);
+    fill_status(now, out);
+  }
+
+  void start(const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+    const char* how = "immediately";
+    if (m.start_mode == config::StartMode::kArduinoSwitch) how = "by the start switch";
+    if (m.start_mode == config::StartMode::kControl) {
+      how = "from the control interface";
+      consumed_start = s.operator_input.value.start_count;
+    }
+    if (m.calibrate_gps_at_start) {
+      const guidance::CalibrationResult r = calibration.result();
+      offset = r.offset;
+      status.gps_calibrated = true;
+      update_pose();
+    }
+    course_zero_deg = m.navigation.course_zero_deg.value_or(heading_deg);
+    top = Top::kActive;
+    status.started = true;
+    start_ns = now;
+    task_start_ns = now;
+    task_index = 0;
+    const ReasonText why = reason_printf("started %s", how);
+    open_task(why.view(), s, now, out);
+  }
+
+  void run_active(const core::Snapshot& s, core::TimeNs now, CoreOutput& out,
+                  GuidanceRequest& req) {
+    // Time limit: defined outcome, never a stall.
+    const config::TaskConfig& tc = m.tasks[task_index];
+    if (core::ns_to_sec(now - task_start_ns) >= tc.time_limit_s) {
+      ++status.tasks_timed_out;
+      const ReasonText why = reason_printf("%.*s time limit %.0f s reached",
+                                           static_cast<int>(tasks[task_index]->name().size()),
+                                           tasks[task_index]->name().data(), tc.time_limit_s);
+      next_task(why.view(), s, now, out, tc.on_timeout == config::TimeoutOutcome::kFinish);
+      if (top != Top::kActive) return;
+    }
+
+    ReasonText detail;
+    const HoldReason reason = hold_check(s, now, detail);
+    if (reason != HoldReason::kNone && !holding) {
+      holding = true;
+      ++status.hold_count;
+      status.hold_reason = reason;
+      transition(detail.view(), now, out);
+    } else if (reason == HoldReason::kNone && holding) {
+      holding = false;
+      const ReasonText why = reason_printf(
+          "resume: %.*s recovered", static_cast<int>(hold_reason_name(status.hold_reason).size()),
+          hold_reason_name(status.hold_reason).data());
+      status.hold_reason = HoldReason::kNone;
+      pid.reset();
+      ramp.reset(0.0);
+      transition(why.view(), now, out);
+    } else if (holding) {
+      status.hold_reason = reason;
+    }
+    hold_detail = holding ? detail : ReasonText{};
+    if (holding) return;
+
+    const TaskContext ctx = context(s, now, out);
+    if (!entered) {
+      if (try_enter(ctx)) transition("entry allowed", now, out);
+      return;
+    }
+    Task& task = *tasks[task_index];
+    const TaskResult r = task.step(ctx, req);
+    if (task.take_phase_change()) transition(task.reason().view(), now, out);
+    if (r != TaskResult::kRunning) {
+      const ReasonText why = r == TaskResult::kDone
+                                 ? task.reason()
+                                 : reason_printf("failed: %s", task.reason().chars.data());
+      const std::optional<msg::LedColour> keep_led = req.led;
+      req = GuidanceRequest{};
+      req.led = keep_led;
+      next_task(why.view(), s, now, out);
+    }
+  }
+
+  // ---- control pipeline -----------------------------------------------------------------------
+
+  void output(const core::Snapshot& s, core::TimeNs now, const GuidanceRequest& req,
+              CoreOutput& out) {
+    (void)s;
+    if (req.led) led = *req.led;
+    const bool drive = top == Top::kActive && entered && !holding && req.steer && heading_valid;
+    if (drive) {
+      control::HeadingPidInput in;
+      in.desired_heading_deg = req.desired_heading_deg;
+      in.heading_deg = heading_deg;
+      in.stamp_ns = heading_stamp_ns;
+      in.yaw_rate_dps = yaw_rate_dps;
+      const double turn = pid.update(in);
+      double setpoint =
+          req.schedule_distance_m ? schedule.scheduled(*req.schedule_distance_m) : req.thrust_frac;
+      setpoint *= req.speed_factor;
+      const double thrust = ramp.update(std::clamp(setpoint, -1.0, 1.0), now);
+      out.command = mixer.mix({turn, thrust}, now);
+      out.viz.has_desired_heading = true;
+      out.viz.desired_heading_deg = req.desired_heading_deg;
+      out.viz.turn_command = turn;
+      out.viz.thrust_command = thrust;
+    } else {
+      // Neutral thrust; the ramp restarts from zero so a resume cannot lurch.
+      out.command = mixer.neutral(now);
+      pid.reset();
+      ramp.reset(0.0);
+    }
+    out.command.led = led;
+  }
+
+  void fill_status(core::TimeNs now, CoreOutput& out) {
+    status.state_path = path;
+    status.task_index = top == Top::kFinished ? static_cast<std::uint32_t>(tasks.size())
+                                              : static_cast<std::uint32_t>(task_index);
+    status.holding = holding;
+    if (holding) status.waiting_for = hold_detail;
+    const core::TimeNs end_ns = top == Top::kFinished ? finish_ns : now;
+    status.mission_elapsed_s = status.started ? core::ns_to_sec(end_ns - start_ns) : 0.0;
+    status.task_elapsed_s = top == Top::kActive ? core::ns_to_sec(now - task_start_ns) : 0.0;
+    status.position_valid = position_valid;
+    status.heading_valid = heading_valid;
+    status.gps_offset_north_m = offset.north_m;
+    status.gps_offset_east_m = offset.east_m;
+    status.course_zero_deg = course_zero_deg;
+    out.status = status;
+
+    VizFrame& v = out.viz;
+    v.stamp_ns = now;
+    v.pose_valid = position_valid;
+    v.pose = pose;
+    v.heading_valid = heading_valid;
+    v.segment_count = std::min<std::uint32_t>(obstacles.count, VizFrame::kMaxSegments);
+    for (std::uint32_t i = 0; i < v.segment_count; ++i) {
+      const perception::ObstacleSegment& seg = obstacles.segments[i];
+      v.segments[i] = {seg.begin, seg.end, seg.kind == perception::ObstacleKind::kWall};
+    }
+  }
+
+  // Configuration.
+  config::MissionConfig m;
+  std::uint32_t camera_timeout_ms;
+  core::MountTransform gnss_mount;
+  core::LocalFrame frame;
+  // Engines below the task level.
+  control::ActuatorMixer mixer;
+  control::HeadingPid pid;
+  control::SpeedSchedule schedule;
+  control::RateLimiter ramp;
+  control::AngleLowPass heading_filter;
+  guidance::GpsCalibration calibration;
+  perception::LidarClusterer clusterer;
+  perception::ObstacleList obstacles;
+  perception::RangeProfile profile;
+  std::vector<std::unique_ptr<Task>> tasks;
+  std::uint8_t needs_union = 0;
+
+  // State machine.
+  Top top = Top::kWaitForStart;
+  std::size_t task_index = 0;
+  bool entered = false;
+  bool holding = false;
+  ReasonText hold_detail;
+  StatePath path;
+  MissionStatus status;
+  core::TimeNs start_ns = 0;
+  core::TimeNs task_start_ns = 0;
+  core::TimeNs finish_ns = 0;
+  std::uint32_t consumed_start = 0;
+  msg::LedColour led = msg::LedColour::kOff;
+
+  // Inputs and the navigation estimate.
+  std::uint64_t lidar_seq = 0;
+  std::uint64_t imu_seq = 0;
+  std::uint64_t gnss_seq = 0;
+  std::uint64_t camera_seq = 0;
+  bool lidar_fresh = false;
+  bool lidar_new = false;
+  bool imu_fresh = false;
+  bool gnss_fresh = false;
+  bool arduino_fresh = false;
+  bool camera_fresh = false;
+  bool camera_new = false;
+  bool has_heading = false;
+  bool heading_valid = false;
+  double heading_deg = 0.0;
+  core::TimeNs heading_stamp_ns = 0;
+  std::optional<double> yaw_rate_dps;
+  bool has_fix = false;
+  bool fix_usable = false;
+  bool position_valid = false;
+  core::NavPoint raw_antenna;
+  core::NavPoint antenna;
+  guidance::GpsOffset offset;
+  core::NavPose pose;
+  double course_zero_deg = 0.0;
+};
+
+MissionCore::MissionCore(const config::Configuration& config)
+    : impl_(std::make_unique<Impl>(config)) {}
+MissionCore::~MissionCore() = default;
+MissionCore::MissionCore(MissionCore&&) noexcept = default;
+MissionCore& MissionCore::operator=(MissionCore&&) noexcept = default;
+
+void MissionCore::step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out) {
+  impl_->step(snapshot, now_ns, out);
+}
+
+}  // namespace coxswain::mission

@@ -1,0 +1,697 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/mission/mission_core.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+#include "coxswain/guidance/avoidance.hpp"
+#include "mission_rig.hpp"
+#include "support/testdata.hpp"
+
+namespace coxswain::mission::test {
+namespace {
+
+static_assert(std::is_trivially_copyable_v<CoreOutput>);
+static_assert(std::is_trivially_copyable_v<MissionStatus>);
+
+config::Configuration hopping_config() {
+  config::Configuration c = base_config(config::TaskType::kHopping);
+  const core::LocalFrame f(c.mission.origin);
+  for (const core::NavPoint p : {core::NavPoint{20.0, 0.0}, core::NavPoint{20.0, 20.0},
+                                 core::NavPoint{0.0, 20.0}, core::NavPoint{0.0, 0.0}}) {
+    c.mission.tasks[0].waypoints.push_back(f.to_geo(p));
+  }
+  return c;
+}
+
+config::Configuration obstacle_config() {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  return c;
+}
+
+msg::Detection detection(msg::Colour colour, msg::Shape shape, float bearing_deg) {
+  msg::Detection d;
+  d.colour = colour;
+  d.shape = shape;
+  d.bearing_deg = bearing_deg;
+  d.area_px = 500.0F;
+  return d;
+}
+
+// ---- wait for start -------------------------------------------------------------------------
+
+TEST(MissionWaitForStart, ImmediateStartNeedsALiveAutonomousArduino) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->live_arduino = false;
+  rig->run_for(0.5);
+  EXPECT_EQ(rig->path(), "wait_for_start");
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "arduino silent");
+  EXPECT_TRUE(rig->neutral());
+  rig->live_arduino = true;
+  rig->run_for(0.2);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+  EXPECT_TRUE(rig->logged("wait_for_start -> hopping/to_wp1: started immediately"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->out.status.started);
+}
+
+TEST(MissionWaitForStart, ArduinoSwitch) {
+  config::Configuration c = hopping_config();
+  c.mission.start_mode = config::StartMode::kArduinoSwitch;
+  auto rig = std::make_unique<Rig>(c);
+  rig->run_for(1.0);
+  EXPECT_EQ(rig->path(), "wait_for_start");
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "start switch");
+  rig->arduino.start_switch = true;
+  rig->run_for(0.2);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+  EXPECT_TRUE(rig->logged("started by the start switch")) << rig->log_text();
+}
+
+TEST(MissionWaitForStart, ControlInterfaceStartCountsEachPressOnce) {
+  config::Configuration c = hopping_config();
+  c.mission.start_mode = config::StartMode::kControl;
+  auto rig = std::make_unique<Rig>(c);
+  rig->run_for(1.0);
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "start from the control interface");
+  rig->snap->operator_input.value.start_count = 1;
+  rig->snap->operator_input.stamp_ns = rig->now;
+  rig->snap->operator_input.sequence = 1;
+  rig->run_for(0.1);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+  EXPECT_TRUE(rig->logged("started from the control interface"));
+}
+
+TEST(MissionWaitForStart, ManualModeOrEstopBlocksTheStart) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->arduino.mode = msg::ControlMode::kManual;
+  rig->run_for(0.5);
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "arduino in manual mode");
+  rig->arduino.mode = msg::ControlMode::kAutonomous;
+  rig->arduino.estop = true;
+  rig->run_for(0.5);
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "arduino reports e-stop");
+  EXPECT_EQ(rig->path(), "wait_for_start");
+}
+
+TEST(MissionWaitForStart, GpsCalibrationRemovesTheReceiverBias) {
+  config::Configuration c = hopping_config();
+  c.mission.calibrate_gps_at_start = true;
+  auto rig = std::make_unique<Rig>(c);
+  // The boat sits on the start point (the origin); the receiver reads 6 m north, 3 m west.
+  rig->position = {6.0, -3.0};
+  rig->run_for(2.0);  // 10 fixes: too few
+  EXPECT_EQ(rig->path(), "wait_for_start");
+  EXPECT_NE(rig->out.status.waiting_for.view().find("gps calibration"), std::string_view::npos);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.started; }, 5.0));
+  EXPECT_TRUE(rig->out.status.gps_calibrated);
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 1e-6);
+  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 1e-6);
+  rig->tick();
+  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 1e-6);
+  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 1e-6);
+}
+
+// ---- refusal --------------------------------------------------------------------------------
+
+TEST(MissionRefusal, NoGnssFixRefusesEntryUntilAFixArrives) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->gnss_usable = false;
+  rig->run_for(0.5);
+  EXPECT_EQ(rig->path(), "hopping/refused");
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "no usable GNSS fix");
+  EXPECT_TRUE(rig->logged("hopping refused: no usable GNSS fix")) << rig->log_text();
+  EXPECT_EQ(rig->out.status.refusal_count, 1U);
+  EXPECT_TRUE(rig->neutral());
+  rig->gnss_usable = true;
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "hopping/to_wp1"; }, 1.0));
+  EXPECT_TRUE(rig->logged("hopping/refused -> hopping/to_wp1: entry allowed"));
+}
+
+TEST(MissionRefusal, NoHeadingRefusesEntry) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->heading_deg = std::nan("");
+  rig->run_for(0.5);
+  EXPECT_EQ(rig->path(), "hopping/refused");
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "no heading");
+  EXPECT_FALSE(rig->out.status.heading_valid);
+  EXPECT_TRUE(rig->out.status.position_valid);
+  rig->heading_deg = 10.0;
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "hopping/to_wp1"; }, 1.0));
+}
+
+// ---- hold and resume ------------------------------------------------------------------------
+
+TEST(MissionHold, StaleLidarHoldsWithinHalfASecondAndResumes) {
+  auto rig = std::make_unique<Rig>(obstacle_config());
+  rig->run_for(0.5);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  EXPECT_FALSE(rig->neutral());
+  rig->live_lidar = false;
+  const core::TimeNs killed = rig->now;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 2.0));
+  EXPECT_LE(rig->now - killed, 500 * core::kNsPerMs);
+  EXPECT_EQ(rig->path(), "hold/obstacle_course/navigate");
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kLidarStale);
+  EXPECT_TRUE(rig->neutral());
+  rig->run_for(2.0);
+  EXPECT_TRUE(rig->neutral());
+  rig->live_lidar = true;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 1.0));
+  EXPECT_EQ(rig->path(), "obstacle_course/navigate");
+  EXPECT_TRUE(rig->logged("resume: lidar_stale recovered")) << rig->log_text();
+  EXPECT_EQ(rig->out.status.hold_count, 1U);
+}
+
+TEST(MissionHold, StaleGnssHoldsWithinHalfASecondAndResumes) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->run_for(0.5);
+  ASSERT_EQ(rig->path(), "hopping/to_wp1");
+  rig->live_gnss = false;
+  const core::TimeNs killed = rig->now;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 2.0));
+  // The last fix was up to one GNSS period (200 ms) before the kill; 450 ms stale limit.
+  EXPECT_LE(rig->now - killed, 500 * core::kNsPerMs);
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kGnssStale);
+  EXPECT_TRUE(rig->neutral());
+  rig->live_gnss = true;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 1.0));
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+}
+
+TEST(MissionHold, ADriverReportingItsDeviceGoneHoldsAtOnce) {
+  auto rig = std::make_unique<Rig>(obstacle_config());
+  rig->run_for(0.5);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate");
+  auto& h = rig->snap->health[static_cast<std::size_t>(msg::DeviceId::kLidar)];
+  h.value.state = msg::DeviceState::kAbsent;
+  h.stamp_ns = rig->now;
+  h.sequence = 1;
+  rig->live_lidar = false;
+  rig->tick();
+  EXPECT_TRUE(rig->out.status.holding);
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kLidarStale);
+  // Back: the driver reports it running and scans flow again.
+  h.value.state = msg::DeviceState::kRunning;
+  h.stamp_ns = rig->now;
+  rig->live_lidar = true;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 1.0));
+}
+
+TEST(MissionHold, ManualModeAndEstopHoldAndResume) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->run_for(0.5);
+  rig->arduino.mode = msg::ControlMode::kManual;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 0.5));
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kManualMode);
+  EXPECT_EQ(rig->path(), "hold/hopping/to_wp1");
+  EXPECT_TRUE(rig->neutral());
+  rig->arduino.mode = msg::ControlMode::kAutonomous;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 0.5));
+  rig->arduino.estop = true;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 0.5));
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kEstop);
+  EXPECT_TRUE(rig->logged("arduino reports e-stop"));
+  rig->arduino.estop = false;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 0.5));
+  EXPECT_EQ(rig->out.status.hold_count, 2U);
+}
+
+TEST(MissionHold, OperatorHoldFromTheControlInterface) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->run_for(0.5);
+  auto& op = rig->snap->operator_input;
+  op.value.hold = true;
+  op.stamp_ns = rig->now;
+  op.sequence = 1;
+  rig->tick();
+  EXPECT_TRUE(rig->out.status.holding);
+  EXPECT_EQ(rig->out.status.hold_reason, HoldReason::kOperator);
+  EXPECT_EQ(std::string(rig->out.status.waiting_for.view()), "operator hold");
+  EXPECT_TRUE(rig->neutral());
+  op.value.hold = false;
+  op.sequence = 2;
+  rig->tick();
+  EXPECT_FALSE(rig->out.status.holding);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1");
+}
+
+TEST(MissionHold, ResumeRampsTheThrustFromZero) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->run_for(8.0);
+  ASSERT_GT(rig->thrust_frac(), 0.5);
+  rig->arduino.mode = msg::ControlMode::kManual;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 0.5));
+  rig->arduino.mode = msg::ControlMode::kAutonomous;
+  ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 0.5));
+  EXPECT_LT(rig->thrust_frac(), 0.05);  // rise 0.2 / s: one tick after resume
+}
+
+// ---- time limits --------------------------------------------------------------------------
+
+config::Configuration kaboat2026_config() {
+  config::Configuration c = base_config(config::TaskType::kCourse1);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].time_limit_s = 3.0;
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({50.0, 0.0}));
+  config::TaskConfig c2;
+  c2.type = config::TaskType::kCourse2;
+  c2.name = "course2";
+  c2.time_limit_s = 2.0;
+  c2.waypoints.push_back(f.to_geo({80.0, 10.0}));
+  c.mission.tasks.push_back(c2);
+  config::TaskConfig c3;
+  c3.type = config::TaskType::kDocking;
+  c3.name = "course3";
+  c3.docking_style = config::DockingStyle::kCourse3;
+  c3.time_limit_s = 2.0;
+  c.mission.tasks.push_back(c3);
+  return c;
+}
+
+TEST(MissionTimeLimit, TheCoursesMoveOnWhenTheirTimeRunsOut) {
+  auto rig = std::make_unique<Rig>(kaboat2026_config());
+  rig->run_for(0.2);
+  EXPECT_EQ(rig->path(), "course1/to_waypoint");
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.task_index == 1; }, 4.0));
+  EXPECT_EQ(rig->path(), "course2/circling");
+  EXPECT_TRUE(rig->logged("course1/to_waypoint -> course2/circling: course1 time limit 3 s"))
+      << rig->log_text();
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.task_index == 2; }, 3.0));
+  EXPECT_EQ(rig->path(), "course3/seek_open");
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 3.0));
+  EXPECT_EQ(rig->path(), "finished");
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 3U);
+  EXPECT_TRUE(rig->neutral());
+}
+
+TEST(MissionTimeLimit, FinishOutcomeEndsTheMission) {
+  config::Configuration c = kaboat2026_config();
+  c.mission.tasks[0].on_timeout = config::TimeoutOutcome::kFinish;
+  auto rig = std::make_unique<Rig>(c);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 4.0));
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 1U);
+  EXPECT_TRUE(rig->logged("course1/to_waypoint -> finished"));
+  EXPECT_EQ(rig->out.status.task_index, 3U);  // == task_count once finished
+  const double elapsed = rig->out.status.mission_elapsed_s;
+  rig->run_for(1.0);
+  EXPECT_DOUBLE_EQ(rig->out.status.mission_elapsed_s, elapsed);  // the clock stops at the finish
+}
+
+TEST(MissionTimeLimit, CountsDuringHoldSoAHeldCourseStillMovesOn) {
+  auto rig = std::make_unique<Rig>(kaboat2026_config());
+  rig->run_for(0.2);
+  rig->live_lidar = false;
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.holding; }, 1.0));
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.task_index == 1; }, 4.0));
+  // Course 2 does not need the lidar: the hold ends with the course change.
+  rig->tick();
+  EXPECT_EQ(rig->path(), "course2/circling") << rig->log_text();
+}
+
+// ---- hopping closed loop --------------------------------------------------------------------
+
+TEST(MissionHopping, UnicycleVisitsEveryWaypointAlongTheLegs) {
+  auto rig = std::make_unique<Rig>(hopping_config());
+  rig->move = true;
+  double max_cross_m = 0.0;
+  double max_rise = 0.0;
+  double last_thrust = 0.0;
+  bool finished = rig->run_until(
+      [&] {
+        if (rig->out.status.waypoints_arrived >= 1 && rig->out.viz.distance_to_go_m < 15.0 &&
+            rig->out.viz.distance_to_go_m > 5.0) {
+          max_cross_m = std::max(max_cross_m, std::abs(rig->out.viz.cross_track_m));
+        }
+        // (Leaving neutral the ESC deadband of 0.01 is skipped: not a lurch.)
+        if (last_thrust > 0.02) max_rise = std::max(max_rise, rig->thrust_frac() - last_thrust);
+        last_thrust = rig->thrust_frac();
+        return rig->out.status.finished;
+      },
+      240.0);
+  ASSERT_TRUE(finished) << rig->log_text() << rig->path();
+  EXPECT_EQ(rig->out.status.waypoints_arrived, 4U) << rig->log_text();
+  EXPECT_EQ(rig->out.status.waypoints_missed, 0U);
+  EXPECT_TRUE(rig->logged("hopping/to_wp1 -> hopping/to_wp2: arrived at waypoint 1"));
+  EXPECT_TRUE(rig->logged("hopping/to_wp4 -> finished: route complete: 4 arrived, 0 missed"))
+      << rig->log_text();
+  EXPECT_LT(max_cross_m, 3.0);  // on the leg, not an arc
+  // No lurch: the thrust rises at most 0.2 / s (one tick: 0.004), plus a pulse quantum.
+  EXPECT_LT(max_rise, 0.01);
+  EXPECT_TRUE(rig->neutral());
+}
+
+// ---- obstacle course and course 1 ---------------------------------------------------------
+
+TEST(MissionObstacleCourse, UnicycleAvoidsABuoyOnTheLineAndPassesTheGate) {
+  auto rig = std::make_unique<Rig>(obstacle_config());
+  rig->move = true;
+  rig->world_buoys.push_back({{15.0, 0.3}, 0.5});
+  double closest_m = 1e9;
+  bool avoided = false;
+  const bool done = rig->run_until(
+      [&] {
+        closest_m = std::min(closest_m, core::distance_m(rig->position, {15.0, 0.3}));
+        avoided = avoided || rig->out.viz.avoidance_status ==
+                                 static_cast<std::uint8_t>(guidance::AvoidanceStatus::kAvoiding);
+        return rig->out.status.finished;
+      },
+      120.0);
+  ASSERT_TRUE(done) << rig->log_text() << rig->path();
+  EXPECT_TRUE(avoided);
+  EXPECT_GT(closest_m, 1.0);  // the buoy's surface kept at more than 0.5 m from the track
+  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: passed the final gate"))
+      << rig->log_text();
+}
+
+config::Configuration course1_config() {
+  config::Configuration c = kaboat2026_config();
+  c.mission.tasks[0].time_limit_s = 180.0;
+  c.mission.tasks[1].time_limit_s = 120.0;
+  return c;
+}
+
+TEST(MissionCourse1, AtTheWaypointTurnsToStarboardUntilTheBuoyIsSeen) {
+  auto rig = std::make_unique<Rig>(course1_config());
+  rig->position = {49.0, 0.0};  // within the arrival radius of the waypoint at (50, 0)
+  rig->heading_deg = 10.0;
+  rig->run_for(0.4);
+  EXPECT_EQ(rig->path(), "course1/search_buoy") << rig->log_text();
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 55.0, 0.5);  // 45 deg to starboard
+  rig->camera({detection(msg::Colour::kPurple, msg::Shape::kBuoy, 20.0F)});
+  rig->tick();
+  EXPECT_EQ(rig->path(), "course2/circling");
+  EXPECT_TRUE(rig->logged("course1/search_buoy -> course2/circling: purple buoy seen at 20 deg"))
+      << rig->log_text();
+}
+
+TEST(MissionCourse1, BuoyNotSeenMovesOnAfterTheSearchTimeout) {
+  auto rig = std::make_unique<Rig>(course1_config());
+  rig->position = {49.0, 0.0};
+  rig->run_for(0.4);
+  ASSERT_EQ(rig->path(), "course1/search_buoy");
+  rig->run_for(2.5);
+  EXPECT_EQ(rig->path(), "course1/search_buoy");
+  rig->run_for(1.0);
+  EXPECT_EQ(rig->path(), "course2/circling");
+  EXPECT_TRUE(rig->logged("buoy not seen within 3.0 s")) << rig->log_text();
+}
+
+// ---- course 2 -------------------------------------------------------------------------------
+
+TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
+  config::Configuration c = base_config(config::TaskType::kCourse2);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({30.0, 0.0}));
+  c.mission.tasks[0].time_limit_s = 600.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->noise_amplitude_deg = 15.0;  // a noisy compass near north crosses 0 many times
+  rig->heading_deg = 0.0;
+  rig->run_for(0.2);
+  ASSERT_EQ(rig->path(), "course2/circling");
+  // Circle counter-clockwise (buoy to port) at 20 deg/s; the camera sees the buoy at -90.
+  int zero_crossings = 0;
+  double prev = rig->heading_deg;
+  auto turn = [&](double deg) {
+    const int n = static_cast<int>(std::abs(deg) / 0.4);
+    for (int i = 0; i < n; ++i) {
+      rig->heading_deg = core::wrap_deg(rig->heading_deg - 0.4);
+      if ((prev >= 0.0) != (rig->heading_deg >= 0.0)) ++zero_crossings;
+      prev = rig->heading_deg;
+      rig->camera({detection(msg::Colour::kPurple, msg::Shape::kBuoy, -90.0F)});
+      rig->tick();
+      if (rig->path() != "course2/circling") return;
+    }
+  };
+  turn(320.0);
+  EXPECT_EQ(rig->path(), "course2/circling") << "left before one full turn";
+  turn(80.0);
+  EXPECT_EQ(rig->path(), "course2/seek_colour") << rig->log_text();
+  EXPECT_TRUE(rig->logged("course2/circling -> course2/seek_colour: one full turn"));
+  // Heading toward course -90 (the course frame's 0 is the start heading, 0 here).
+  rig->noise_amplitude_deg = 0.0;
+  rig->tick();
+  EXPECT_TRUE(rig->out.viz.has_desired_heading);
+  // The course frame's 0 is the (filtered, noisy) heading at the start.
+  EXPECT_NEAR(rig->out.status.course_zero_deg, 0.0, 15.0);
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg,
+              core::wrap_deg(rig->out.status.course_zero_deg - 90.0), 1e-9);
+  EXPECT_EQ(rig->out.command.led, msg::LedColour::kOff);
+  // The target object shows red in most frames, with some blue misdetections.
+  for (int i = 0; i < 150 && rig->path() == "course2/seek_colour"; ++i) {
+    if (i % 2 == 0) {
+      rig->camera({detection(i % 6 == 0 ? msg::Colour::kBlue : msg::Colour::kRed,
+                             msg::Shape::kCircle, -10.0F)});
+    }
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "course2/to_waypoint") << rig->log_text();
+  EXPECT_EQ(rig->out.status.identified_colour, msg::Colour::kRed);
+  EXPECT_TRUE(rig->logged("target colour red"));
+  rig->tick();
+  EXPECT_EQ(rig->out.command.led, msg::LedColour::kRed);
+  EXPECT_TRUE(rig->out.viz.has_goal);
+  EXPECT_NEAR(rig->out.viz.goal.north_m, 30.0, 1e-6);
+}
+
+TEST(MissionKaboat2026, ClosedLoopThroughCourseOneAndTwo) {
+  config::Configuration c = kaboat2026_config();
+  c.mission.tasks[0].time_limit_s = 180.0;
+  c.mission.tasks[1].time_limit_s = 120.0;
+  c.mission.tasks[2].time_limit_s = 20.0;
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints[0] = f.to_geo({30.0, 0.0});
+  c.mission.tasks[1].waypoints[0] = f.to_geo({45.0, -25.0});
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  // Course 1's field: two buoys near the line. Course 2's purple buoy to port of the turn, and
+  // the red target object south-west of it.
+  rig->world_buoys.push_back({{12.0, 0.4}, 0.4});
+  rig->world_buoys.push_back({{20.0, -1.0}, 0.4});
+  rig->world_objects.push_back({{33.0, -3.0}, msg::Colour::kPurple, msg::Shape::kBuoy});
+  rig->world_buoys.push_back({{33.0, -3.0}, 0.3});  // the lidar gives its range
+  rig->world_objects.push_back({{24.0, -12.0}, msg::Colour::kRed, msg::Shape::kCircle});
+  const bool reached_course3 =
+      rig->run_until([&] { return rig->out.status.task_index >= 2; }, 300.0);
+  ASSERT_TRUE(reached_course3) << rig->log_text() << rig->path();
+  EXPECT_TRUE(rig->logged("course1/search_buoy -> course2/circling: purple buoy seen"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("course2/circling -> course2/seek_colour: one full turn"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("course2/seek_colour -> course2/to_waypoint: target colour red"))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> course3/seek_open: reached the course 2 waypoint"))
+      << rig->log_text();
+  EXPECT_EQ(rig->out.command.led, msg::LedColour::kRed);
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 25.0));
+}
+
+// ---- docking 2022 -----------------------------------------------------------------------------
+
+TEST(MissionDocking2022, VotesChooseTheTargetSlipThenRayPursuitAndLidarStop) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  const core::LocalFrame f(c.mission.origin);
+  auto& t = c.mission.tasks[0];
+  t.time_limit_s = 600.0;
+  t.target_colour = msg::Colour::kRed;  // overridden by the operator below
+  t.target_shape = msg::Shape::kTriangle;
+  t.dock_heading_deg = 90.0;  // the slips open to the west: enter heading east
+  for (double north : {0.0, 3.0, 6.0}) t.slips.push_back(f.to_geo({north, 10.0}));
+  c.mission.docking.face_time_s = 3.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->snap->operator_input.value.target_colour = msg::Colour::kGreen;
+  rig->snap->operator_input.value.target_shape = msg::Shape::kCross;
+  rig->snap->operator_input.stamp_ns = rig->now;
+  rig->snap->operator_input.sequence = 1;
+  // The boat waits at slip 1's decision point (4 m west of it), facing the slips.
+  rig->position = {0.0, 6.0};
+  rig->heading_deg = 90.0;
+  rig->run_for(0.4);
+  EXPECT_EQ(rig->path(), "docking/face_slip1") << rig->log_text();
+  // Slip 1 shows the wrong marker (the config default, red triangle): not the target.
+  for (int i = 0; i < 200 && rig->path() == "docking/face_slip1"; ++i) {
+    if (i % 2 == 0) rig->camera({detection(msg::Colour::kRed, msg::Shape::kTriangle, 0.0F)});
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
+  rig->position = {3.0, 6.0};
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/face_slip2"; }, 1.0));
+  for (int i = 0; i < 200 && rig->path() == "docking/face_slip2"; ++i) {
+    if (i % 2 == 0) rig->camera({detection(msg::Colour::kGreen, msg::Shape::kCross, 2.0F)});
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  EXPECT_EQ(rig->out.status.docking_slip, 1);
+  EXPECT_TRUE(rig->logged("target marker at slip 2"));
+  // Ray pursuit: aims east along the ray into slip 2; the thrust ramps up from neutral.
+  rig->run_for(0.5);
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 90.0, 1.0);
+  EXPECT_GT(rig->thrust_frac(), 0.0);
+  // The dock wall 0.25 m ahead stops the boat and ends the mission.
+  add_wall_ahead(rig->scan, 0.25, 1.0);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
+  EXPECT_TRUE(rig->logged("docked in slip 2"));
+  EXPECT_TRUE(rig->neutral());
+}
+
+TEST(MissionDocking2022, ClosedLoopFindsTheTargetSlipAndStopsInside) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  const core::LocalFrame f(c.mission.origin);
+  auto& t = c.mission.tasks[0];
+  t.time_limit_s = 300.0;
+  t.target_colour = msg::Colour::kBlue;
+  t.target_shape = msg::Shape::kRectangle;
+  t.dock_heading_deg = 90.0;
+  // Three slips 3 m apart opening west at east = 10, 2 m deep; markers on their back walls.
+  for (int i = 0; i < 3; ++i) t.slips.push_back(f.to_geo({3.0 * i, 10.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  rig->camera_yaw_deg = 0.0;  // the docking camera looks ahead
+  const msg::Colour colours[] = {msg::Colour::kRed, msg::Colour::kBlue, msg::Colour::kGreen};
+  const msg::Shape shapes[] = {msg::Shape::kTriangle, msg::Shape::kRectangle, msg::Shape::kCross};
+  for (int i = 0; i < 3; ++i) {
+    const double n = 3.0 * i;
+    rig->world_objects.push_back({{n, 12.0}, colours[i], shapes[i]});
+    for (double e = 10.0; e <= 12.0; e += 0.25) {
+      rig->world_buoys.push_back({{n - 1.5, e}, 0.1});
+    }
+    for (double dn = -1.2; dn <= 1.2; dn += 0.25) rig->world_buoys.push_back({{n + dn, 12.1}, 0.1});
+  }
+  for (double e = 10.0; e <= 12.0; e += 0.25) rig->world_buoys.push_back({{7.5, e}, 0.1});
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 200.0))
+      << rig->log_text() << rig->path();
+  EXPECT_EQ(rig->out.status.docking_slip, 1) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> docking/enter_slip2: target marker at slip 2")) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> finished: docked in slip 2")) << rig->log_text();
+  EXPECT_NEAR(rig->position.north_m, 3.0, 1.0);  // inside slip 2
+  EXPECT_GT(rig->position.east_m, 10.5);
+}
+
+TEST(MissionDocking2022, RefusesWithoutATargetMarker) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].slips.push_back(f.to_geo({0.0, 10.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->run_for(0.4);
+  EXPECT_EQ(rig->path(), "docking/refused");
+  EXPECT_NE(rig->out.status.waiting_for.view().find("no target marker"), std::string_view::npos);
+}
+
+// ---- docking 2026 (course 3) ------------------------------------------------------------------
+
+TEST(MissionCourse3, SteersAtTheMostOpenDirectionInTheForwardHalfPlaneAndStops) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.navigation.course_zero_deg = 0.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->live_gnss = false;  // lidar and IMU only
+  // Obstacles close ahead and to port; open water to starboard (40 deg).
+  add_circle(rig->scan, 3.0, 0.0, 1.0);
+  add_circle(rig->scan, 2.0, -2.5, 1.0);
+  add_circle(rig->scan, 1.5, 4.0, 0.5);
+  rig->run_for(0.4);
+  ASSERT_EQ(rig->path(), "docking/seek_open") << rig->log_text();
+  EXPECT_TRUE(rig->out.viz.has_avoidance);
+  EXPECT_GT(rig->out.viz.avoidance_bearing_body_deg, 20.0);
+  EXPECT_LT(rig->out.viz.avoidance_bearing_body_deg, 65.0);
+  // Pointing 100 deg to starboard, the open water behind the course's half-plane is excluded.
+  rig->heading_deg = 100.0;
+  rig->scan.clear();
+  rig->run_for(0.6);  // the heading filter settles
+  EXPECT_LE(rig->out.viz.avoidance_bearing_body_deg, -10.0);
+  rig->scan.clear();
+  add_wall_ahead(rig->scan, 0.2, 1.0);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
+  EXPECT_TRUE(rig->logged("stopped 0.2"));
+}
+
+TEST(MissionCourse3, ClosedLoopIntoTheDockAtTheEndOfAChannel) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.tasks[0].time_limit_s = 60.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->live_gnss = false;
+  rig->move = true;
+  rig->heading_deg = 8.0;  // slightly off the channel axis
+  // A channel 4 m wide running north, closed by the dock's back wall 12 m ahead.
+  for (double n = -4.0; n <= 12.0; n += 0.3) {
+    rig->world_buoys.push_back({{n, -2.0}, 0.15});
+    rig->world_buoys.push_back({{n, 2.0}, 0.15});
+  }
+  for (double e = -1.8; e <= 1.8; e += 0.3) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 60.0)) << rig->log_text();
+  EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
+  EXPECT_TRUE(rig->logged("docking/seek_open -> finished: stopped 0.")) << rig->log_text();
+  EXPECT_GT(rig->position.north_m, 10.5);  // at the back wall, not stopped early
+  EXPECT_LT(std::abs(rig->position.east_m), 1.5);
+  EXPECT_TRUE(rig->neutral());
+}
+
+// ---- determinism ------------------------------------------------------------------------------
+
+TEST(MissionDeterminism, SameInputsGiveBitIdenticalOutputs) {
+  auto run = [](std::vector<unsigned char>& bytes) {
+    config::Configuration c = obstacle_config();
+    auto rig = std::make_unique<Rig>(c);
+    rig->move = true;
+    rig->noise_amplitude_deg = 3.0;
+    add_circle(rig->scan, 8.0, 0.5, 0.5);
+    for (int i = 0; i < 500; ++i) {
+      rig->tick();
+      const auto* cmd = reinterpret_cast<const unsigned char*>(rig->out.command.pulse_us.data());
+      bytes.insert(bytes.end(), cmd, cmd + sizeof(rig->out.command.pulse_us));
+      const double v[] = {
+          rig->out.viz.desired_heading_deg,   rig->out.viz.turn_command,
+          rig->out.viz.thrust_command,        rig->out.viz.avoidance_bearing_body_deg,
+          rig->out.viz.pose.position.north_m, rig->out.viz.pose.position.east_m};
+      const auto* vb = reinterpret_cast<const unsigned char*>(v);
+      bytes.insert(bytes.end(), vb, vb + sizeof(v));
+      const std::string_view p = rig->out.status.state_path.view();
+      bytes.insert(bytes.end(), p.begin(), p.end());
+    }
+  };
+  std::vector<unsigned char> a;
+  std::vector<unsigned char> b;
+  run(a);
+  run(b);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size()), 0);
+}
+
+// ---- configuration errors -----------------------------------------------------------------
+
+TEST(MissionCoreConstruction, EveryShippedMissionBuildsWithTheShippedBoat) {
+  const std::filesystem::path dir = coxswain::testing::source_dir() / "config";
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir / "missions")) {
+    config::ConfigErrors errors;
+    const config::Configuration c{
+        config::load_boat_config((dir / "boat.yaml").string(), errors),
+        config::load_devices_config((dir / "devices.yaml").string(), errors),
+        config::load_mission_config(entry.path().string(), errors)};
+    ASSERT_TRUE(errors.empty()) << errors.format();
+    auto core = std::make_unique<MissionCore>(c);
+    auto snap = std::make_unique<core::Snapshot>();
+    auto out = std::make_unique<CoreOutput>();
+    core->step(*snap, core::kNsPerSec, *out);
+    EXPECT_EQ(out->status.state_path.view(), "wait_for_start") << entry.path();
+    EXPECT_EQ(out->status.task_count, c.mission.tasks.size());
+    ++count;
+  }
+  EXPECT_GE(count, 4);
+}
+
+TEST(MissionCoreConstruction, InvalidEngineParametersThrow) {
+  config::Configuration c = obstacle_config();
+  c.mission.avoidance.fan.bin_width_deg = 7.0;  // 180 / 7 is not whole
+  EXPECT_THROW(MissionCore core(c), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace coxswain::mission::test
