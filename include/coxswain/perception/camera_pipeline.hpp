@@ -35,9 +35,10 @@ struct CameraPipelineStats {
 /// buoy (a purple circle is both); consumers filter by shape.
 ///
 /// Each colour mask is built once and scanned by both detectors. Pure and deterministic: no I/O,
-/// no clock (the stamp is passed in); its cv::Mat and contour buffers are members, reused frame
-/// to frame, so after the first frame of a given size it does not allocate for the images (OpenCV's
-/// contour extraction keeps its own small scratch). Not thread-safe: one instance per thread.
+/// no clock (the stamp is passed in). Its image buffers (blurred, HSV, masks) and contour vectors
+/// are members reused frame to frame, so after the first frame of a given size no image buffer is
+/// allocated; cv::findContours still builds its contour lists internally (small, per contour).
+/// Not thread-safe: one instance per thread.
 class CameraPipeline {
  public:
   /// `params` used as they are (hfov_deg and mount_yaw_deg included). Check params.validate()

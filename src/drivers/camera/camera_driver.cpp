@@ -155,12 +155,17 @@ void CameraDriver::run() {
   while (!wait_for_stop(0)) {
     if (!first_open) ++health_.reopen_count;
     first_open = false;
-    set_state(msg::DeviceState::kOpening, "opening " + describe(spec_));
+    // While the source stays missing the state stays kAbsent/kError: one log line per outage,
+    // not two per retry.
+    if (health_.state != msg::DeviceState::kAbsent && health_.state != msg::DeviceState::kError) {
+      set_state(msg::DeviceState::kOpening, "opening " + describe(spec_));
+    }
     const std::unique_ptr<FrameSource> source = make_frame_source(spec_, config_);
     std::string detail;
     if (source == nullptr || !source->open(detail)) {
       const bool missing = detail.rfind("no such", 0) == 0 || detail.rfind("no frame", 0) == 0;
       set_state(missing ? msg::DeviceState::kAbsent : msg::DeviceState::kError, detail);
+      publish_health();  // fresh stamp and reopen count on every attempt, even with no change
       if (wait_for_stop(backoff_ns)) break;
       backoff_ns = std::min(2 * backoff_ns, kBackoffMaxNs);
       continue;
