@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <opencv2/imgcodecs.hpp>
 #include <string_view>
 
 namespace coxswain::drivers::camera {
@@ -81,6 +82,11 @@ void CameraDriver::start() {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_requested_ = false;
   }
+  // OpenCV builds its codec registry (and registers GDAL's drivers, tens of ms) on first use.
+  // Doing it here, before the thread exists, keeps that out of the first frame's latency and lets
+  // ThreadSanitizer see the registry complete before the thread reads it (the function-local
+  // static's guard lives in uninstrumented OpenCV code, so TSan cannot see its synchronisation).
+  (void)cv::haveImageWriter(".bmp");  // looks at the extension only, opens no file
   thread_ = std::thread([this] { run(); });
 }
 
@@ -117,8 +123,9 @@ void CameraDriver::set_state(msg::DeviceState state, const std::string& detail) 
 
 void CameraDriver::on_frame(const ReadResult& r) {
   (void)pipeline_.process(frame_, r.stamp_ns, detections_);
-  detections_out_.publish(detections_, r.stamp_ns);
+  // The frame first: whoever sees detections N can also fetch frame N (or a newer one).
   if (frame_out_ != nullptr) frame_out_->publish(frame_, r.stamp_ns);
+  detections_out_.publish(detections_, r.stamp_ns);
 
   ++health_.frames_ok;
   health_.bytes_received += r.bytes;
@@ -178,7 +185,9 @@ void CameraDriver::run() {
     }
     set_state(msg::DeviceState::kConfiguring, "opened " + describe(spec_) + ", no frame yet");
 
-    const core::TimeNs opened_ns = clock_.now_ns();
+    // Stale = waited this long for a frame; measured from when the driver was last ready for one
+    // (opened, or done with the previous frame), so slow processing never counts as silence.
+    core::TimeNs waiting_since_ns = clock_.now_ns();
     core::TimeNs next_due_ns = steady_now_ns();
     core::TimeNs last_health_ns = next_due_ns;
     int consecutive_failures = 0;
@@ -224,8 +233,8 @@ void CameraDriver::run() {
       if (lost) break;
 
       const core::TimeNs now_ns = clock_.now_ns();
-      const core::TimeNs since_ns =
-          now_ns - (health_.last_frame_ns > opened_ns ? health_.last_frame_ns : opened_ns);
+      if (r.status == ReadStatus::kFrame) waiting_since_ns = now_ns;
+      const core::TimeNs since_ns = now_ns - waiting_since_ns;
       if ((health_.state == msg::DeviceState::kRunning ||
            health_.state == msg::DeviceState::kConfiguring) &&
           since_ns > timeout_ns) {
