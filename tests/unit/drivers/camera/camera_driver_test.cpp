@@ -57,7 +57,8 @@ double purple_bearing_deg(const Rig& rig) {
   const auto s = rig.detections.read();
   for (std::uint32_t i = 0; i < s.value.count; ++i) {
     const msg::Detection& d = s.value.detections[i];
-    if (d.colour == Colour::kPurple && d.shape == msg::Shape::kBuoy) return d.bearing_deg;
+    if (d.colour == Colour::kPurple && d.shape == msg::Shape::kBuoy)
+      return static_cast<double>(d.bearing_deg);
   }
   return std::nan("");
 }
@@ -88,7 +89,8 @@ TEST(CameraDriver, ImageDirectoryDetectionsHealthAndFrames) {
     const double b = purple_bearing_deg(rig);
     ASSERT_FALSE(std::isnan(b));
     double best = 1e9;
-    for (const float x : xs) best = std::min(best, std::abs(b - expected_bearing_deg(x, 10.0)));
+    for (const float x : xs)
+      best = std::min(best, std::abs(b - expected_bearing_deg(static_cast<double>(x), 10.0)));
     EXPECT_LT(best, 0.5) << b;
     const std::uint64_t seq = rig.detections.sequence();
     ASSERT_TRUE(wait_until([&] { return rig.detections.sequence() > seq; }));
@@ -169,7 +171,8 @@ TEST(CameraDriver, FollowDirectoryStampsOnInjectedClock) {
     ASSERT_TRUE(wait_until([&] { return rig.detections.sequence() > before; })) << k;
     const auto s = rig.detections.read();
     EXPECT_EQ(s.value.stamp_ns, 1'000 * (k + 1));
-    EXPECT_NEAR(purple_bearing_deg(rig), expected_bearing_deg(x, 0.0), 0.5) << k;
+    EXPECT_NEAR(purple_bearing_deg(rig), expected_bearing_deg(static_cast<double>(x), 0.0), 0.5)
+        << k;
   }
   // Health and the frame hand-off follow the detections within moments.
   EXPECT_TRUE(wait_until([&] { return rig.h().frames_ok == 5U; })) << rig.h().frames_ok;
