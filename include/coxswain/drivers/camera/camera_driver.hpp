@@ -10,7 +10,10 @@
 // with a back-off of 100 ms doubling to 2 s, reset by the first good frame. No new frame for
 // `timeout_ms` makes the state kStale. The thread sleeps on a condition variable between polls and
 // reopen attempts, so it never busy-loops and stop() wakes it at once; a V4L2 grab in progress
-// delays stop() by at most one frame period.
+// delays stop() by one frame period. A V4L2 camera that stops streaming while still plugged in
+// blocks a grab for OpenCV's select() timeout (environment OPENCV_VIDEOIO_V4L_SELECT_TIMEOUT,
+// seconds, default 10): until it returns, health is not refreshed and stop() waits. Ten failed
+// grabs in a row close and reopen the device.
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
