@@ -5,10 +5,12 @@
 // promptly from a back-off. Conditions are polled with generous deadlines (loaded CI).
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "camera_test_util.hpp"
 #include "coxswain/core/angles.hpp"
@@ -278,6 +280,46 @@ TEST(CameraDriver, DisabledPublishesOnce) {
   EXPECT_EQ(rig.health.sequence(), 1U);
   EXPECT_EQ(rig.state(), DeviceState::kDisabled);
   driver.stop();
+}
+
+TEST(LatestFrame, ConcurrentPublishAndReadNeverTear) {
+  LatestFrame latest;
+  cv::Mat out;
+  core::TimeNs stamp_ns = 0;
+  std::uint64_t seq = 0;
+  EXPECT_FALSE(latest.read(out, stamp_ns, seq));
+  std::atomic<bool> done{false};
+  std::thread writer([&] {
+    cv::Mat frame(120, 160, CV_8UC3);
+    for (int k = 1; k <= 300; ++k) {
+      frame.setTo(cv::Scalar(k % 256, k % 256, k % 256));
+      latest.publish(frame, k);
+    }
+    done.store(true);
+  });
+  std::uint64_t last_seq = 0;
+  int reads = 0;
+  std::string problem;  // first inconsistency seen; checked after the writer is joined
+  while ((!done.load() || reads == 0) && problem.empty()) {
+    if (!latest.read(out, stamp_ns, seq)) continue;
+    ++reads;
+    // Whole frames only: every pixel holds the value of the publish that the stamp names.
+    const auto value = static_cast<double>(stamp_ns % 256);
+    double min_v = 0.0;
+    double max_v = 0.0;
+    cv::minMaxLoc(out.reshape(1), &min_v, &max_v);
+    if (min_v != value || max_v != value)
+      problem = "torn frame at stamp " + std::to_string(stamp_ns);
+    if (seq < last_seq) problem = "sequence went back";
+    if (static_cast<core::TimeNs>(seq) != stamp_ns) problem = "stamp and sequence disagree";
+    last_seq = seq;
+  }
+  writer.join();
+  EXPECT_TRUE(problem.empty()) << problem;
+  EXPECT_GT(reads, 0);
+  ASSERT_TRUE(latest.read(out, stamp_ns, seq));
+  EXPECT_EQ(seq, 300U);
+  EXPECT_EQ(latest.sequence(), 300U);
 }
 
 }  // namespace
