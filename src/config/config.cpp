@@ -420,6 +420,7 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
     CameraDeviceConfig& c = d.camera;
     c.enabled = m->get("enabled", true);
     c.source = m->get<std::string>("source", "/dev/videoCAM");
+    c.loop = m->get("loop", true);
     c.width_px = m->get<std::uint32_t>("width_px", 640, {16, 8192});
     c.height_px = m->get<std::uint32_t>("height_px", 480, {16, 8192});
     c.fps = m->get("fps", 30.0, {0.5, 240.0});
@@ -834,6 +835,7 @@ std::string to_yaml(const Configuration& c) {
   out << YAML::Key << "camera" << YAML::Value << YAML::BeginMap;
   kv(out, "enabled", d.camera.enabled);
   kv(out, "source", d.camera.source);
+  kv(out, "loop", d.camera.loop);
   kv(out, "width_px", d.camera.width_px);
   kv(out, "height_px", d.camera.height_px);
   kv(out, "fps", d.camera.fps);

@@ -115,6 +115,7 @@ struct ArduinoDeviceConfig : SerialDeviceConfig {
 struct CameraDeviceConfig {
   bool enabled = true;
   std::string source = "/dev/videoCAM";  // a V4L2 device, a video file or an image directory
+  bool loop = true;  // video file / image directory: start again at the end (desk work)
   std::uint32_t width_px = 640;
   std::uint32_t height_px = 480;
   double fps = 30.0;

@@ -21,6 +21,12 @@ class BuoyDetector {
   /// Fills `out` (cleared first) from `bgr` (CV_8UC3). Returns false for an unusable image.
   [[nodiscard]] bool detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::CameraDetections& out);
 
+  /// Scans one colour's ready-made mask (CV_8UC1 of a `width` x `height` frame, e.g. from a
+  /// ColourMasker shared with the marker detector) and adds its buoys to `out` without clearing
+  /// it. For CameraPipeline, which builds each mask once for both detectors.
+  void scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+                 msg::CameraDetections& out);
+
   /// The largest buoy of `colour`, if any, from a filled detection list.
   [[nodiscard]] static const msg::Detection* largest(const msg::CameraDetections& detections,
                                                      msg::Colour colour);

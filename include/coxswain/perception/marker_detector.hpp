@@ -34,13 +34,18 @@ class MarkerDetector {
   /// Fills `out` (cleared first) from `bgr` (CV_8UC3). Returns false for an unusable image.
   [[nodiscard]] bool detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::CameraDetections& out);
 
+  /// Scans one colour's ready-made mask (CV_8UC1 of a `width` x `height` frame, e.g. from a
+  /// ColourMasker shared with the buoy detector) and adds its markers to `out` without clearing
+  /// it. Statistics accumulate until reset_stats(). For CameraPipeline, which builds each mask
+  /// once for both detectors.
+  void scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+                 msg::CameraDetections& out);
+  void reset_stats() { stats_ = {}; }
+
   [[nodiscard]] const MarkerDetectStats& last_stats() const { return stats_; }
   [[nodiscard]] const VisionParams& params() const { return params_; }
 
  private:
-  void scan_colour(msg::Colour colour, const cv::Mat& mask, int width, int height,
-                   msg::CameraDetections& out);
-
   VisionParams params_;
   ColourMasker masker_;
   ShapeAnalyzer analyzer_;

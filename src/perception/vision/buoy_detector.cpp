@@ -25,45 +25,49 @@ bool BuoyDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::Camera
   const int height = bgr.rows;
   out.image_width_px = static_cast<std::uint16_t>(std::min(width, 65535));
   out.image_height_px = static_cast<std::uint16_t>(std::min(height, 65535));
-  const double min_area_px =
-      params_.buoy_min_area_fraction * static_cast<double>(width) * static_cast<double>(height);
-  const int margin = params_.edge_margin_px;
   for (std::size_t c = 0; c < params_.colour_count; ++c) {
     const ColourRange& range = params_.colours[c];
     if (!range.buoys) continue;
-    cv::findContours(masker_.mask(range.hsv), contours_, cv::RETR_EXTERNAL,
-                     cv::CHAIN_APPROX_SIMPLE);
-    for (const std::vector<cv::Point>& contour : contours_) {
-      const double area_px = cv::contourArea(contour);
-      if (area_px < min_area_px) continue;
-      const cv::Rect box = cv::boundingRect(contour);
-      if (params_.buoy_reject_edge &&
-          (box.x <= margin || box.y <= margin || box.x + box.width >= width - margin ||
-           box.y + box.height >= height - margin)) {
-        continue;
-      }
-      cv::convexHull(contour, hull_);
-      const double hull_area_px = cv::contourArea(hull_);
-      const double solidity = hull_area_px > 0.0 ? area_px / hull_area_px : 0.0;
-      if (solidity < params_.buoy_min_solidity) continue;
-      const cv::Moments m = cv::moments(contour);
-      const double cx_px = m.m10 / m.m00 + 0.5;  // continuous coordinates, see MarkerDetector
-      const double cy_px = m.m01 / m.m00 + 0.5;
-      msg::Detection d;
-      d.colour = range.colour;
-      d.shape = msg::Shape::kBuoy;
-      d.bearing_deg = static_cast<float>(
-          body_bearing_deg(cx_px, width, params_.hfov_deg, params_.mount_yaw_deg));
-      d.center_x_px = static_cast<float>(cx_px);
-      d.center_y_px = static_cast<float>(cy_px);
-      d.width_px = static_cast<float>(box.width);
-      d.height_px = static_cast<float>(box.height);
-      d.area_px = static_cast<float>(area_px);
-      d.score = static_cast<float>(solidity);
-      (void)insert_by_area(out, d);
-    }
+    scan_mask(range.colour, masker_.mask(range.hsv), width, height, out);
   }
   return true;
+}
+
+void BuoyDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+                             msg::CameraDetections& out) {
+  const double min_area_px =
+      params_.buoy_min_area_fraction * static_cast<double>(width) * static_cast<double>(height);
+  const int margin = params_.edge_margin_px;
+  cv::findContours(mask, contours_, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  for (const std::vector<cv::Point>& contour : contours_) {
+    const double area_px = cv::contourArea(contour);
+    if (area_px < min_area_px) continue;
+    const cv::Rect box = cv::boundingRect(contour);
+    if (params_.buoy_reject_edge &&
+        (box.x <= margin || box.y <= margin || box.x + box.width >= width - margin ||
+         box.y + box.height >= height - margin)) {
+      continue;
+    }
+    cv::convexHull(contour, hull_);
+    const double hull_area_px = cv::contourArea(hull_);
+    const double solidity = hull_area_px > 0.0 ? area_px / hull_area_px : 0.0;
+    if (solidity < params_.buoy_min_solidity) continue;
+    const cv::Moments m = cv::moments(contour);
+    const double cx_px = m.m10 / m.m00 + 0.5;  // continuous coordinates, see MarkerDetector
+    const double cy_px = m.m01 / m.m00 + 0.5;
+    msg::Detection d;
+    d.colour = colour;
+    d.shape = msg::Shape::kBuoy;
+    d.bearing_deg =
+        static_cast<float>(body_bearing_deg(cx_px, width, params_.hfov_deg, params_.mount_yaw_deg));
+    d.center_x_px = static_cast<float>(cx_px);
+    d.center_y_px = static_cast<float>(cy_px);
+    d.width_px = static_cast<float>(box.width);
+    d.height_px = static_cast<float>(box.height);
+    d.area_px = static_cast<float>(area_px);
+    d.score = static_cast<float>(solidity);
+    (void)insert_by_area(out, d);
+  }
 }
 
 const msg::Detection* BuoyDetector::largest(const msg::CameraDetections& detections,

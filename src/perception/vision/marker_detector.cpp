@@ -66,13 +66,13 @@ bool MarkerDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::Came
   for (std::size_t c = 0; c < params_.colour_count; ++c) {
     const ColourRange& range = params_.colours[c];
     if (!range.markers) continue;
-    scan_colour(range.colour, masker_.mask(range.hsv), bgr.cols, bgr.rows, out);
+    scan_mask(range.colour, masker_.mask(range.hsv), bgr.cols, bgr.rows, out);
   }
   return true;
 }
 
-void MarkerDetector::scan_colour(msg::Colour colour, const cv::Mat& mask, int width, int height,
-                                 msg::CameraDetections& out) {
+void MarkerDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+                               msg::CameraDetections& out) {
   // RETR_TREE gives each outer contour its holes, so the filled area (and with it the fill
   // ratio that tells a solid shape from an outline ring) is exact. Islands inside a hole (the
   // bowls of a letter B in a blue disc) are skipped: they are glyph artefacts, not markers.

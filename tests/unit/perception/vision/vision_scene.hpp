@@ -92,7 +92,7 @@ inline std::vector<cv::Point2f> shape_outline(msg::Shape shape, cv::Point2f c, f
       }
       break;
   }
-  const double r = core::deg_to_rad(rot_deg);
+  const double r = core::deg_to_rad(static_cast<double>(rot_deg));
   const auto cs = static_cast<float>(std::cos(r));
   const auto sn = static_cast<float>(std::sin(r));
   for (cv::Point2f& p : pts) p = {c.x + cs * p.x - sn * p.y, c.y + sn * p.x + cs * p.y};
