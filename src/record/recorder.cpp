@@ -98,16 +98,33 @@ struct Recorder::LogSlot {
   std::array<char, kMaxText> text{};
 };
 
+/// A decoded message sampled from the store, already in its channel layout.
+struct SampleSlot {
+  RecordChannel channel = RecordChannel::kGnss;
+  core::TimeNs stamp_ns = 0;
+  std::uint32_t length = 0;
+  std::array<std::uint8_t, 1024> bytes{};  // the largest, a full CameraDetections, is ~520
+};
+struct LidarSampleSlot {
+  core::TimeNs stamp_ns = 0;
+  std::uint32_t length = 0;
+  std::array<std::uint8_t, kMaxLidarBytes> bytes{};
+};
+
 struct Recorder::Queues {
   explicit Queues(const RecorderOptions& o)
       : raw{SpscRing<RawSlot>(o.raw_queue_slots), SpscRing<RawSlot>(o.raw_queue_slots),
             SpscRing<RawSlot>(o.raw_queue_slots), SpscRing<RawSlot>(o.raw_queue_slots),
             SpscRing<RawSlot>(o.raw_queue_slots)},
         tick(o.tick_queue_slots),
-        log(o.log_queue_slots) {}
+        log(o.log_queue_slots),
+        samples(o.sample_queue_slots),
+        lidar_samples(o.lidar_queue_slots) {}
   std::array<SpscRing<RawSlot>, msg::kDeviceCount> raw;
   SpscRing<TickSlot> tick;
   SpscRing<LogSlot> log;
+  SpscRing<SampleSlot> samples;  // producer: the sampler thread
+  SpscRing<LidarSampleSlot> lidar_samples;
   std::atomic<bool> log_accepting{false};
   std::atomic<std::uint64_t> log_dropped{0};
   std::atomic<core::TimeNs> now_ns{0};  // the recorder clock as last read by the writer thread
@@ -150,14 +167,20 @@ struct Recorder::WriterState {
   std::array<std::uint16_t, kRecordChannelCount> channel_ids{};
   std::vector<std::uint8_t> scratch;
   std::unique_ptr<core::Sample<msg::LidarScan>> lidar;  // 64 KiB: not on the stack
-  // Last store sequence recorded per sampled slot.
-  std::uint64_t seq_gnss = 0, seq_imu = 0, seq_lidar = 0, seq_camera = 0, seq_arduino = 0,
-                seq_operator = 0;
-  std::array<std::uint64_t, msg::kDeviceCount> seq_health{};
   core::TimeNs last_chunk_ns = 0;
   core::TimeNs last_drop_log_ns = 0;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
   bool failure_reported = false;
+};
+
+/// Everything only the sampler thread touches.
+struct Recorder::SamplerState {
+  std::unique_ptr<core::Sample<msg::LidarScan>> lidar =
+      std::make_unique<core::Sample<msg::LidarScan>>();
+  // Last store sequence queued per sampled slot.
+  std::uint64_t seq_gnss = 0, seq_imu = 0, seq_lidar = 0, seq_camera = 0, seq_arduino = 0,
+                seq_operator = 0;
+  std::array<std::uint64_t, msg::kDeviceCount> seq_health{};
 };
 
 namespace {
@@ -212,7 +235,8 @@ Recorder::Recorder(RecorderOptions options, const core::LatestStore* store,
       store_(store),
       clock_(clock),
       queues_(std::make_shared<Queues>(options_)),
-      state_(std::make_unique<WriterState>(options_)) {}
+      state_(std::make_unique<WriterState>(options_)),
+      sampler_(std::make_unique<SamplerState>()) {}
 
 Recorder::~Recorder() { stop(); }
 
@@ -294,7 +318,9 @@ bool Recorder::start() {
   running_.store(true, std::memory_order_release);
   accepting_.store(true, std::memory_order_release);
   queues_->log_accepting.store(true, std::memory_order_release);
+  sampler_stop_.store(false);
   thread_ = std::thread([this] { run(); });
+  if (store_ != nullptr) sampler_thread_ = std::thread([this] { run_sampler(); });
   return true;
 }
 
@@ -302,6 +328,15 @@ void Recorder::stop() {
   if (!thread_.joinable()) return;
   accepting_.store(false, std::memory_order_release);
   queues_->log_accepting.store(false, std::memory_order_release);
+  // The sampler first (it takes a last look at the store), then the writer drains everything.
+  if (sampler_thread_.joinable()) {
+    {
+      std::lock_guard lock(stop_mutex_);
+      sampler_stop_.store(true, std::memory_order_release);
+    }
+    stop_cv_.notify_all();
+    sampler_thread_.join();
+  }
   {
     std::lock_guard lock(stop_mutex_);
     stop_.store(true, std::memory_order_release);
@@ -462,49 +497,105 @@ bool Recorder::drain_once() {
                              std::string_view(s->text.data(), s->text_length)));
     queues_->log.pop();
   }
-  if (sample_store()) any = true;
+  for (int i = 0; i < kBatch; ++i) {
+    SampleSlot* s = queues_->samples.front();
+    if (s == nullptr) break;
+    any = true;
+    const std::span<const std::uint8_t> data(s->bytes.data(), s->length);
+    write(s->channel, s->stamp_ns, data);
+    if (s->channel == RecordChannel::kGnss) {
+      std::uint64_t seq = 0;
+      msg::GnssFix fix;
+      if (decode_sample(data, seq, fix)) {
+        write(RecordChannel::kVizFix, s->stamp_ns, foxglove::location_fix_json(fix));
+      }
+    }
+    queues_->samples.pop();
+  }
+  for (int i = 0; i < kBatch; ++i) {
+    LidarSampleSlot* s = queues_->lidar_samples.front();
+    if (s == nullptr) break;
+    any = true;
+    const std::span<const std::uint8_t> data(s->bytes.data(), s->length);
+    write(RecordChannel::kLidar, s->stamp_ns, data);
+    std::uint64_t seq = 0;
+    if (decode_sample(data, seq, st.lidar->value)) {
+      write(RecordChannel::kVizScan, s->stamp_ns,
+            foxglove::laser_scan_json(st.lidar->value, options_.scan_viz_bins));
+    }
+    queues_->lidar_samples.pop();
+  }
   return any;
 }
 
 bool Recorder::sample_store() {
-  if (store_ == nullptr) return false;
-  WriterState& st = *state_;
+  SamplerState& st = *sampler_;
   bool any = false;
-  // Records a slot's value when its sequence moved; a jump of more than one is a drop.
-  auto sample = [&](const auto& slot, auto& sample_out, std::uint64_t& last, RecordChannel ch,
-                    auto&& extra) {
+  // Queues a slot's value when its sequence moved; a jump of more than one is a drop.
+  auto sample = [&](const auto& slot, auto& sample_out, std::uint64_t& last, RecordChannel ch) {
     if (slot.sequence() == last) return;
     slot.read(sample_out);
     if (sample_out.sequence <= last) return;
     if (sample_out.sequence > last + 1) count_drop(ch, sample_out.sequence - last - 1);
     last = sample_out.sequence;
     any = true;
-    const std::size_t n = encode_sample(st.scratch, sample_out.sequence, sample_out.value);
-    write(ch, sample_out.stamp_ns, std::span<const std::uint8_t>(st.scratch).first(n));
-    extra(sample_out);
+    SampleSlot* s = queues_->samples.try_claim();
+    if (s == nullptr) {
+      count_drop(ch);
+      return;
+    }
+    s->channel = ch;
+    s->stamp_ns = sample_out.stamp_ns;
+    s->length =
+        static_cast<std::uint32_t>(encode_sample(s->bytes, sample_out.sequence, sample_out.value));
+    queues_->samples.publish();
   };
-  auto none = [](const auto&) {};
   core::Sample<msg::GnssFix> gnss;
-  sample(store_->gnss, gnss, st.seq_gnss, RecordChannel::kGnss, [&](const auto& s) {
-    write(RecordChannel::kVizFix, s.stamp_ns, foxglove::location_fix_json(s.value));
-  });
+  sample(store_->gnss, gnss, st.seq_gnss, RecordChannel::kGnss);
   core::Sample<msg::ImuSample> imu;
-  sample(store_->imu, imu, st.seq_imu, RecordChannel::kImu, none);
-  sample(store_->lidar, *st.lidar, st.seq_lidar, RecordChannel::kLidar, [&](const auto& s) {
-    write(RecordChannel::kVizScan, s.stamp_ns,
-          foxglove::laser_scan_json(s.value, options_.scan_viz_bins));
-  });
+  sample(store_->imu, imu, st.seq_imu, RecordChannel::kImu);
   core::Sample<msg::CameraDetections> camera;
-  sample(store_->camera, camera, st.seq_camera, RecordChannel::kCamera, none);
+  sample(store_->camera, camera, st.seq_camera, RecordChannel::kCamera);
   core::Sample<msg::ArduinoStatus> arduino;
-  sample(store_->arduino, arduino, st.seq_arduino, RecordChannel::kArduino, none);
+  sample(store_->arduino, arduino, st.seq_arduino, RecordChannel::kArduino);
   core::Sample<msg::OperatorInput> op;
-  sample(store_->operator_input, op, st.seq_operator, RecordChannel::kOperator, none);
+  sample(store_->operator_input, op, st.seq_operator, RecordChannel::kOperator);
   for (std::size_t d = 0; d < msg::kDeviceCount; ++d) {
     core::Sample<msg::DeviceHealth> health;
-    sample(store_->health[d], health, st.seq_health[d], RecordChannel::kHealth, none);
+    sample(store_->health[d], health, st.seq_health[d], RecordChannel::kHealth);
+  }
+  // Scans go to their own queue of large slots.
+  if (store_->lidar.sequence() != st.seq_lidar) {
+    core::Sample<msg::LidarScan>& scan = *st.lidar;
+    store_->lidar.read(scan);
+    if (scan.sequence > st.seq_lidar) {
+      if (scan.sequence > st.seq_lidar + 1) {
+        count_drop(RecordChannel::kLidar, scan.sequence - st.seq_lidar - 1);
+      }
+      st.seq_lidar = scan.sequence;
+      any = true;
+      LidarSampleSlot* s = queues_->lidar_samples.try_claim();
+      if (s == nullptr) {
+        count_drop(RecordChannel::kLidar);
+      } else {
+        s->stamp_ns = scan.stamp_ns;
+        s->length = static_cast<std::uint32_t>(encode_sample(s->bytes, scan.sequence, scan.value));
+        queues_->lidar_samples.publish();
+      }
+    }
   }
   return any;
+}
+
+void Recorder::run_sampler() {
+  for (;;) {
+    const bool stopping = sampler_stop_.load(std::memory_order_acquire);
+    sample_store();
+    if (stopping) break;  // the pass above saw everything published before stop()
+    std::unique_lock lock(stop_mutex_);
+    stop_cv_.wait_for(lock, std::chrono::nanoseconds(options_.sample_period_ns),
+                      [this] { return sampler_stop_.load(std::memory_order_acquire); });
+  }
 }
 
 void Recorder::log_drops(bool force) {

@@ -5,9 +5,10 @@
 // Producers never block. Each device thread owns one SPSC queue (fed through RawByteSink::on_raw),
 // the tick thread owns one (record_tick), the log sink owns one; slots are fixed-size and a full
 // queue drops the record and counts it per channel. Decoded messages are not pushed by anyone:
-// the recorder's thread samples the LatestStore (lock-free reads) and records each new value
-// once; values overwritten before it looked are counted as dropped on that channel (the raw bytes
-// still hold them: `replay --decode` re-creates them).
+// a sampler thread polls the LatestStore (lock-free reads, every `sample_period_ns`) and queues
+// each new value once, so disk stalls of the writer never make it miss one; values overwritten
+// before it looked are counted as dropped on that channel (the raw bytes still hold them:
+// `replay --decode` re-creates them).
 //
 // The writer thread drains the queues into McapWriter, closes a chunk (compress, write,
 // fdatasync) at least every `chunk_period_ns`, logs drops at most once per `drop_log_period_ns`,
@@ -76,6 +77,9 @@ struct RecorderOptions {
   int zstd_level = 3;
   bool sync = true;                                 // fdatasync every closed chunk
   core::TimeNs idle_sleep_ns = 2 * core::kNsPerMs;  // writer thread nap when all queues are empty
+  core::TimeNs sample_period_ns = core::kNsPerMs;   // store sampler poll period
+  std::size_t sample_queue_slots = 1024;            // decoded messages waiting for the writer
+  std::size_t lidar_queue_slots = 8;                // scans waiting for the writer (53 KiB each)
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
   std::string config_yaml;          // effective configuration (Metadata "config")
@@ -139,8 +143,10 @@ class Recorder final : public drivers::RawByteSink {
   struct LogSlot;
   struct Queues;
   struct WriterState;
+  struct SamplerState;
 
   void run();
+  void run_sampler();
   bool drain_once();
   bool sample_store();
   void write(RecordChannel channel, core::TimeNs stamp_ns, std::span<const std::uint8_t> data);
@@ -156,7 +162,10 @@ class Recorder final : public drivers::RawByteSink {
   const core::Clock& clock_;
   std::shared_ptr<Queues> queues_;
   std::unique_ptr<WriterState> state_;
+  std::unique_ptr<SamplerState> sampler_;
   std::thread thread_;
+  std::thread sampler_thread_;
+  std::atomic<bool> sampler_stop_{false};
   std::atomic<bool> accepting_{false};
   std::atomic<bool> stop_{false};
   std::mutex stop_mutex_;  // wakes the napping writer thread on stop(); producers never touch it
