@@ -90,7 +90,7 @@ bool McapWriter::start_file() {
   scratch_.clear();
   put_str(scratch_, options_.profile);
   put_str(scratch_, options_.library);
-  emit_record(out_, static_cast<std::uint8_t>(Op::kHeader), scratch_);
+  emit_record(static_cast<std::uint8_t>(Op::kHeader), scratch_);
   return flush_buffer();
 }
 
@@ -100,19 +100,13 @@ void McapWriter::emit(std::span<const std::uint8_t> bytes) {
   file_offset_ += bytes.size();
 }
 
-void McapWriter::emit_record(std::vector<std::uint8_t>& out, std::uint8_t op,
-                             std::span<const std::uint8_t> content) {
+void McapWriter::emit_record(std::uint8_t op, std::span<const std::uint8_t> content) {
   std::uint8_t prefix[mcap::kRecordPrefixBytes];
   prefix[0] = op;
   const std::uint64_t len = content.size();
   for (std::size_t i = 0; i < 8; ++i) prefix[1 + i] = static_cast<std::uint8_t>(len >> (8 * i));
-  if (&out == &out_) {
-    emit(prefix);
-    emit(content);
-  } else {
-    out.insert(out.end(), prefix, prefix + mcap::kRecordPrefixBytes);
-    out.insert(out.end(), content.begin(), content.end());
-  }
+  emit(prefix);
+  emit(content);
 }
 
 bool McapWriter::flush_buffer() {
@@ -175,7 +169,7 @@ std::uint16_t McapWriter::add_schema(std::string_view name, std::string_view enc
            std::string(encoding), std::vector<std::uint8_t>(data.begin(), data.end())};
   scratch_.clear();
   encode_schema(scratch_, s);
-  emit_record(out_, static_cast<std::uint8_t>(Op::kSchema), scratch_);
+  emit_record(static_cast<std::uint8_t>(Op::kSchema), scratch_);
   schemas_.push_back(std::move(s));
   if (out_.size() >= options_.buffer_bytes && !flush_buffer()) return 0;
   return schemas_.back().id;
@@ -191,7 +185,7 @@ std::uint16_t McapWriter::add_channel(std::uint16_t schema_id, std::string_view 
             std::string(message_encoding), metadata};
   scratch_.clear();
   encode_channel(scratch_, c);
-  emit_record(out_, static_cast<std::uint8_t>(Op::kChannel), scratch_);
+  emit_record(static_cast<std::uint8_t>(Op::kChannel), scratch_);
   channels_.push_back(std::move(c));
   if (out_.size() >= options_.buffer_bytes && !flush_buffer()) return 0xFFFF;
   return channels_.back().id;
@@ -231,7 +225,7 @@ bool McapWriter::write_metadata(std::string_view name, const McapMetadataMap& va
   put_str(scratch_, name);
   put_str_map(scratch_, values);
   const std::uint64_t at = offset();
-  emit_record(out_, static_cast<std::uint8_t>(Op::kMetadata), scratch_);
+  emit_record(static_cast<std::uint8_t>(Op::kMetadata), scratch_);
   metadata_indexes_.push_back({at, offset() - at, std::string(name)});
   return out_.size() < options_.buffer_bytes || flush_buffer();
 }
@@ -249,7 +243,7 @@ bool McapWriter::write_attachment(std::string_view name, std::string_view media_
   put_bytes(scratch_, data);
   put_u32(scratch_, crc32(scratch_));  // CRC of every preceding field of the record
   const std::uint64_t at = offset();
-  emit_record(out_, static_cast<std::uint8_t>(Op::kAttachment), scratch_);
+  emit_record(static_cast<std::uint8_t>(Op::kAttachment), scratch_);
   attachment_indexes_.push_back({at, offset() - at, log_time_ns, create_time_ns, data.size(),
                                  std::string(name), std::string(media_type)});
   return out_.size() < options_.buffer_bytes || flush_buffer();
@@ -305,7 +299,7 @@ bool McapWriter::close_chunk() {
       put_u64(scratch_, off);
     }
     index.index_offsets.emplace_back(channel, offset());
-    emit_record(out_, static_cast<std::uint8_t>(Op::kMessageIndex), scratch_);
+    emit_record(static_cast<std::uint8_t>(Op::kMessageIndex), scratch_);
   }
   index.index_length = offset() - index_start;
   chunk_indexes_.push_back(std::move(index));
@@ -327,7 +321,7 @@ bool McapWriter::close() {
     in_data_section_ = false;
     scratch_.clear();
     put_u32(scratch_, data_crc);
-    emit_record(out_, static_cast<std::uint8_t>(Op::kDataEnd), scratch_);
+    emit_record(static_cast<std::uint8_t>(Op::kDataEnd), scratch_);
 
     const std::uint64_t summary_start = offset();
     const std::size_t summary_buffer_start = out_.size();
@@ -345,14 +339,14 @@ bool McapWriter::close() {
       for (const auto& s : schemas_) {
         scratch_.clear();
         encode_schema(scratch_, s);
-        emit_record(out_, static_cast<std::uint8_t>(Op::kSchema), scratch_);
+        emit_record(static_cast<std::uint8_t>(Op::kSchema), scratch_);
       }
     });
     group(Op::kChannel, [&] {
       for (const auto& c : channels_) {
         scratch_.clear();
         encode_channel(scratch_, c);
-        emit_record(out_, static_cast<std::uint8_t>(Op::kChannel), scratch_);
+        emit_record(static_cast<std::uint8_t>(Op::kChannel), scratch_);
       }
     });
     group(Op::kStatistics, [&] {
@@ -370,7 +364,7 @@ bool McapWriter::close() {
         put_u16(scratch_, channel);
         put_u64(scratch_, count);
       }
-      emit_record(out_, static_cast<std::uint8_t>(Op::kStatistics), scratch_);
+      emit_record(static_cast<std::uint8_t>(Op::kStatistics), scratch_);
     });
     group(Op::kChunkIndex, [&] {
       for (const auto& ci : chunk_indexes_) {
@@ -388,7 +382,7 @@ bool McapWriter::close() {
         put_str(scratch_, options_.compress ? "zstd" : "");
         put_u64(scratch_, ci.compressed_size);
         put_u64(scratch_, ci.uncompressed_size);
-        emit_record(out_, static_cast<std::uint8_t>(Op::kChunkIndex), scratch_);
+        emit_record(static_cast<std::uint8_t>(Op::kChunkIndex), scratch_);
       }
     });
     group(Op::kAttachmentIndex, [&] {
@@ -401,7 +395,7 @@ bool McapWriter::close() {
         put_u64(scratch_, ai.data_size);
         put_str(scratch_, ai.name);
         put_str(scratch_, ai.media_type);
-        emit_record(out_, static_cast<std::uint8_t>(Op::kAttachmentIndex), scratch_);
+        emit_record(static_cast<std::uint8_t>(Op::kAttachmentIndex), scratch_);
       }
     });
     group(Op::kMetadataIndex, [&] {
@@ -410,7 +404,7 @@ bool McapWriter::close() {
         put_u64(scratch_, mi.offset);
         put_u64(scratch_, mi.length);
         put_str(scratch_, mi.name);
-        emit_record(out_, static_cast<std::uint8_t>(Op::kMetadataIndex), scratch_);
+        emit_record(static_cast<std::uint8_t>(Op::kMetadataIndex), scratch_);
       }
     });
     const std::uint64_t summary_offset_start = offset();
@@ -419,7 +413,7 @@ bool McapWriter::close() {
       put_u8(scratch_, static_cast<std::uint8_t>(g.op));
       put_u64(scratch_, g.start);
       put_u64(scratch_, g.length);
-      emit_record(out_, static_cast<std::uint8_t>(Op::kSummaryOffset), scratch_);
+      emit_record(static_cast<std::uint8_t>(Op::kSummaryOffset), scratch_);
     }
     // Footer: summary_start u64, summary_offset_start u64, summary_crc u32, where the CRC covers
     // the summary start through the footer's summary_offset_start field.

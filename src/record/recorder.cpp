@@ -143,9 +143,9 @@ struct Recorder::Queues {
     s->stamp_ns = stamp_ns;
     s->level = level;
     s->name_length = static_cast<std::uint8_t>(std::min(logger.size(), LogSlot::kMaxName));
-    std::memcpy(s->name.data(), logger.data(), s->name_length);
+    if (s->name_length > 0) std::memcpy(s->name.data(), logger.data(), s->name_length);
     s->text_length = static_cast<std::uint16_t>(std::min(text.size(), LogSlot::kMaxText));
-    std::memcpy(s->text.data(), text.data(), s->text_length);
+    if (s->text_length > 0) std::memcpy(s->text.data(), text.data(), s->text_length);
     log.publish();
     return true;
   }
@@ -390,7 +390,10 @@ bool Recorder::record_tick(const TickInput& tick) noexcept {
   s->length = static_cast<std::uint16_t>(n);
   s->state_path_length =
       static_cast<std::uint16_t>(std::min(tick.state_path.size(), kMaxStatePathBytes));
-  std::memcpy(s->state_path.data(), tick.state_path.data(), s->state_path_length);
+  // An empty string_view may hold a null pointer, which memcpy must not be given.
+  if (s->state_path_length > 0) {
+    std::memcpy(s->state_path.data(), tick.state_path.data(), s->state_path_length);
+  }
   s->has_viz = tick.viz != nullptr;
   if (s->has_viz) s->viz = *tick.viz;
   queues_->tick.publish();

@@ -121,8 +121,7 @@ class McapWriter {
   };
 
   bool start_file();
-  void emit_record(std::vector<std::uint8_t>& out, std::uint8_t op,
-                   std::span<const std::uint8_t> content);
+  void emit_record(std::uint8_t op, std::span<const std::uint8_t> content);
   /// Appends bytes to the output stream (buffer, data-section CRC, offsets).
   void emit(std::span<const std::uint8_t> bytes);
   bool flush_buffer();
