@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The flight recorder: one MCAP file per run (src/record/FORMAT.md lists every channel).
+//
+// Producers never block. Each device thread owns one SPSC queue (fed through RawByteSink::on_raw),
+// the tick thread owns one (record_tick), the log sink owns one; slots are fixed-size and a full
+// queue drops the record and counts it per channel. Decoded messages are not pushed by anyone:
+// a sampler thread polls the LatestStore (lock-free reads, every `sample_period_ns`) and queues
+// each new value once, so disk stalls of the writer never make it miss one; values overwritten
+// before it looked are counted as dropped on that channel (the raw bytes still hold them:
+// `replay --decode` re-creates them).
+//
+// The writer thread drains the queues into McapWriter, closes a chunk (compress, write,
+// fdatasync) at least every `chunk_period_ns`, logs drops at most once per `drop_log_period_ns`,
+// and on a write error (disk full) stops recording, logs it once and keeps draining so the boat
+// sails on. After SIGKILL or power loss the file holds every chunk closed before, i.e. all but
+// about the last chunk period.
+// Thread-safety: on_raw from the one thread driving each device (a device's reads and writes must
+// not be teed concurrently from two threads); record_tick from one thread; stats() from any
+// thread; start/stop from the owner.
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include "coxswain/core/clock.hpp"
+#include "coxswain/core/latest_store.hpp"
+#include "coxswain/drivers/device_session.hpp"
+#include "coxswain/record/tick_record.hpp"
+
+namespace spdlog::sinks {
+class sink;
+}
+
+namespace coxswain::record {
+
+/// Every channel of a recording.
+enum class RecordChannel : std::uint8_t {
+  kRawLidar = 0,  // /raw/<device>, in msg::DeviceId order
+  kRawImu,
+  kRawGnss,
+  kRawArduino,
+  kRawCamera,
+  kTick,      // /tick
+  kGnss,      // /gnss
+  kImu,       // /imu
+  kLidar,     // /lidar
+  kCamera,    // /camera
+  kArduino,   // /arduino
+  kOperator,  // /operator
+  kHealth,    // /health
+  kVizFix,    // /viz/fix     foxglove.LocationFix
+  kVizScan,   // /viz/scan    foxglove.LaserScan
+  kVizPose,   // /tf          foxglove.FrameTransform (map -> boat)
+  kVizScene,  // /viz/scene   foxglove.SceneUpdate
+  kLog,       // /log         foxglove.Log
+};
+inline constexpr std::size_t kRecordChannelCount = 18;
+
+[[nodiscard]] std::string_view channel_topic(RecordChannel channel);
+[[nodiscard]] RecordChannel raw_channel(msg::DeviceId device);
+
+struct RecorderOptions {
+  std::filesystem::path path;          // the .mcap file to create
+  std::size_t raw_queue_slots = 1024;  // per device; each slot carries up to kRawSlotBytes
+  std::size_t tick_queue_slots = 256;
+  std::size_t log_queue_slots = 512;
+  core::TimeNs chunk_period_ns = core::kNsPerSec;  // a crash loses at most about this much
+  std::size_t chunk_size_bytes = 4U << 20U;
+  int zstd_level = 3;
+  bool sync = true;                                 // fdatasync every closed chunk
+  core::TimeNs idle_sleep_ns = 2 * core::kNsPerMs;  // writer thread nap when all queues are empty
+  core::TimeNs sample_period_ns = core::kNsPerMs;   // store sampler poll period
+  std::size_t sample_queue_slots = 1024;            // decoded messages waiting for the writer
+  std::size_t lidar_queue_slots = 8;                // scans waiting for the writer (53 KiB each)
+  core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
+  std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
+  std::string config_yaml;          // effective configuration (Metadata "config")
+  std::string build_version;        // Metadata "build"
+};
+
+struct RecorderChannelStats {
+  std::uint64_t written = 0;  // messages handed to the MCAP writer
+  std::uint64_t dropped = 0;  // queue full, slot overwritten before sampling, or after failure
+};
+
+/// A consistent-enough copy of the counters (each counter is exact; they are read one by one).
+struct RecorderStats {
+  std::array<RecorderChannelStats, kRecordChannelCount> channels{};
+  std::uint64_t raw_bytes = 0;  // device bytes recorded in /raw/*
+  std::uint64_t file_bytes = 0;
+  std::uint64_t chunks = 0;
+  bool running = false;  // writer thread alive and recording
+  bool failed = false;   // recording stopped on an error (the run goes on)
+  std::string error;
+
+  [[nodiscard]] const RecorderChannelStats& operator[](RecordChannel c) const {
+    return channels[static_cast<std::size_t>(c)];
+  }
+  [[nodiscard]] std::uint64_t total_dropped() const;
+};
+
+class Recorder final : public drivers::RawByteSink {
+ public:
+  /// Bytes of one raw queue slot; a longer on_raw() is split over several slots/messages.
+  static constexpr std::size_t kRawSlotBytes = 1024;
+
+  /// `store` (may be null) is sampled for the decoded channels; `clock` stamps log lines and
+  /// paces chunk closes. Both must outlive the recorder.
+  Recorder(RecorderOptions options, const core::LatestStore* store, const core::Clock& clock);
+  ~Recorder() override;
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  /// Creates the file, writes schemas, channels and metadata, starts the writer thread. False
+  /// (with stats().error) when the file cannot be created; the recorder then drops everything.
+  bool start();
+  /// Drains the queues, samples the store once more, finishes the file and joins the thread.
+  void stop();
+
+  void on_raw(msg::DeviceId device, drivers::RawDirection direction, core::TimeNs stamp_ns,
+              std::span<const std::uint8_t> bytes) noexcept override;
+  /// Copies one tick into the tick queue (bounded work, no allocation). False when dropped.
+  bool record_tick(const TickInput& tick) noexcept;
+  /// Queues a log line for /log. One producer at a time (log_sink() serializes its callers).
+  bool record_log(core::TimeNs stamp_ns, int spdlog_level, std::string_view logger,
+                  std::string_view text) noexcept;
+  /// An spdlog sink feeding /log; add it to the loggers whose lines belong in the recording.
+  [[nodiscard]] std::shared_ptr<spdlog::sinks::sink> log_sink();
+
+  [[nodiscard]] RecorderStats stats() const;
+
+ private:
+  struct RawSlot;
+  struct TickSlot;
+  struct LogSlot;
+  struct Queues;
+  struct WriterState;
+  struct SamplerState;
+
+  void run();
+  void run_sampler();
+  bool drain_once();
+  bool sample_store();
+  void write(RecordChannel channel, core::TimeNs stamp_ns, std::span<const std::uint8_t> data);
+  void write(RecordChannel channel, core::TimeNs stamp_ns, std::string_view json);
+  void note_failure();
+  void log_drops(bool force);
+  void count_drop(RecordChannel c, std::uint64_t n = 1) noexcept {
+    dropped_[static_cast<std::size_t>(c)].fetch_add(n, std::memory_order_relaxed);
+  }
+
+  RecorderOptions options_;
+  const core::LatestStore* store_;
+  const core::Clock& clock_;
+  std::shared_ptr<Queues> queues_;
+  std::unique_ptr<WriterState> state_;
+  std::unique_ptr<SamplerState> sampler_;
+  std::thread thread_;
+  std::thread sampler_thread_;
+  std::atomic<bool> sampler_stop_{false};
+  std::atomic<bool> accepting_{false};
+  std::atomic<bool> stop_{false};
+  std::mutex stop_mutex_;  // wakes the napping writer thread on stop(); producers never touch it
+  std::condition_variable stop_cv_;
+  std::atomic<bool> running_{false};
+  std::atomic<bool> failed_{false};
+  mutable std::mutex error_mutex_;  // guards error_ only (never taken by a producer)
+  std::string error_;
+  std::array<std::atomic<std::uint64_t>, kRecordChannelCount> written_{};
+  std::array<std::atomic<std::uint64_t>, kRecordChannelCount> dropped_{};
+  std::atomic<std::uint64_t> raw_bytes_{0};
+  std::atomic<std::uint64_t> file_bytes_{0};
+  std::atomic<std::uint64_t> chunks_{0};
+};
+
+}  // namespace coxswain::record

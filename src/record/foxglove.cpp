@@ -1,0 +1,395 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/record/foxglove.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+namespace coxswain::record::foxglove {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+// ---- schema building blocks (JSON Schema) ----
+json num(std::string_view description) {
+  return {{"type", "number"}, {"description", description}};
+}
+json str(std::string_view description) {
+  return {{"type", "string"}, {"description", description}};
+}
+json integer(std::string_view description, std::int64_t min, std::int64_t max) {
+  return {{"type", "integer"}, {"description", description}, {"minimum", min}, {"maximum", max}};
+}
+json object(std::string_view title, json properties) {
+  json required = json::array();
+  for (const auto& [k, v] : properties.items()) required.push_back(k);
+  return {{"type", "object"},
+          {"title", title},
+          {"properties", std::move(properties)},
+          {"required", std::move(required)}};
+}
+json array_of(json items, std::string_view description) {
+  return {{"type", "array"}, {"description", description}, {"items", std::move(items)}};
+}
+json time_schema(std::string_view description) {
+  json t = object("time", {{"sec", integer("seconds", 0, 4294967295)},
+                           {"nsec", integer("nanoseconds", 0, 999999999)}});
+  t["description"] = description;
+  return t;
+}
+json duration_schema(std::string_view description) {
+  json t = object("duration", {{"sec", integer("seconds", -2147483648, 2147483647)},
+                               {"nsec", integer("nanoseconds", 0, 999999999)}});
+  t["description"] = description;
+  return t;
+}
+json vector3_schema(std::string_view title) {
+  return object(title, {{"x", num("x")}, {"y", num("y")}, {"z", num("z")}});
+}
+json quaternion_schema() {
+  return object("foxglove.Quaternion",
+                {{"x", num("x")}, {"y", num("y")}, {"z", num("z")}, {"w", num("w")}});
+}
+json pose_schema() {
+  return object("foxglove.Pose", {{"position", vector3_schema("foxglove.Vector3")},
+                                  {"orientation", quaternion_schema()}});
+}
+json color_schema() {
+  return object("foxglove.Color", {{"r", num("red 0-1")},
+                                   {"g", num("green 0-1")},
+                                   {"b", num("blue 0-1")},
+                                   {"a", num("alpha 0-1")}});
+}
+
+json location_fix_schema() {
+  json cov = array_of(num("m^2"), "ENU position covariance, row-major 3x3");
+  cov["minItems"] = 9;
+  cov["maxItems"] = 9;
+  return object("foxglove.LocationFix",
+                {{"timestamp", time_schema("time of the fix")},
+                 {"frame_id", str("frame of the sensor")},
+                 {"latitude", num("latitude, degrees")},
+                 {"longitude", num("longitude, degrees")},
+                 {"altitude", num("altitude, metres")},
+                 {"position_covariance", cov},
+                 {"position_covariance_type",
+                  integer("0 unknown, 1 approximated, 2 diagonal known, 3 known", 0, 3)}});
+}
+
+json laser_scan_schema() {
+  return object("foxglove.LaserScan",
+                {{"timestamp", time_schema("time of the scan")},
+                 {"frame_id", str("frame of the scan")},
+                 {"pose", pose_schema()},
+                 {"start_angle", num("bearing of the first range, radians")},
+                 {"end_angle", num("bearing of the last range, radians")},
+                 {"ranges", array_of(num("metres"), "ranges at equal angular steps")},
+                 {"intensities", array_of(num("intensity"), "intensity per range")}});
+}
+
+json frame_transform_schema() {
+  return object("foxglove.FrameTransform", {{"timestamp", time_schema("time of the transform")},
+                                            {"parent_frame_id", str("parent frame")},
+                                            {"child_frame_id", str("child frame")},
+                                            {"translation", vector3_schema("foxglove.Vector3")},
+                                            {"rotation", quaternion_schema()}});
+}
+
+json log_schema() {
+  return object(
+      "foxglove.Log",
+      {{"timestamp", time_schema("time of the log line")},
+       {"level", integer("0 unknown, 1 debug, 2 info, 3 warning, 4 error, 5 fatal", 0, 5)},
+       {"message", str("log message")},
+       {"name", str("logger name")},
+       {"file", str("source file")},
+       {"line", integer("source line", 0, 4294967295)}});
+}
+
+json scene_update_schema() {
+  const json colors = array_of(color_schema(), "per-vertex colors");
+  const json points = array_of(vector3_schema("foxglove.Point3"), "points");
+  const json indices = array_of(integer("index", 0, 4294967295), "vertex indices");
+  const json arrow = object("foxglove.ArrowPrimitive", {{"pose", pose_schema()},
+                                                        {"shaft_length", num("metres")},
+                                                        {"shaft_diameter", num("metres")},
+                                                        {"head_length", num("metres")},
+                                                        {"head_diameter", num("metres")},
+                                                        {"color", color_schema()}});
+  const json cube = object("foxglove.CubePrimitive", {{"pose", pose_schema()},
+                                                      {"size", vector3_schema("foxglove.Vector3")},
+                                                      {"color", color_schema()}});
+  const json sphere =
+      object("foxglove.SpherePrimitive", {{"pose", pose_schema()},
+                                          {"size", vector3_schema("foxglove.Vector3")},
+                                          {"color", color_schema()}});
+  const json cylinder =
+      object("foxglove.CylinderPrimitive", {{"pose", pose_schema()},
+                                            {"size", vector3_schema("foxglove.Vector3")},
+                                            {"bottom_scale", num("ratio")},
+                                            {"top_scale", num("ratio")},
+                                            {"color", color_schema()}});
+  const json line = object("foxglove.LinePrimitive",
+                           {{"type", integer("0 line strip, 1 line loop, 2 line list", 0, 2)},
+                            {"pose", pose_schema()},
+                            {"thickness", num("metres or pixels")},
+                            {"scale_invariant", {{"type", "boolean"}}},
+                            {"points", points},
+                            {"color", color_schema()},
+                            {"colors", colors},
+                            {"indices", indices}});
+  const json triangles = object("foxglove.TriangleListPrimitive", {{"pose", pose_schema()},
+                                                                   {"points", points},
+                                                                   {"color", color_schema()},
+                                                                   {"colors", colors},
+                                                                   {"indices", indices}});
+  const json text = object("foxglove.TextPrimitive", {{"pose", pose_schema()},
+                                                      {"billboard", {{"type", "boolean"}}},
+                                                      {"font_size", num("size")},
+                                                      {"scale_invariant", {{"type", "boolean"}}},
+                                                      {"color", color_schema()},
+                                                      {"text", str("text")}});
+  const json model = object("foxglove.ModelPrimitive",
+                            {{"pose", pose_schema()},
+                             {"scale", vector3_schema("foxglove.Vector3")},
+                             {"color", color_schema()},
+                             {"override_color", {{"type", "boolean"}}},
+                             {"url", str("model URL")},
+                             {"media_type", str("media type")},
+                             {"data", {{"type", "string"}, {"contentEncoding", "base64"}}}});
+  const json entity = object(
+      "foxglove.SceneEntity",
+      {{"timestamp", time_schema("time of the entity")},
+       {"frame_id", str("frame")},
+       {"id", str("entity id")},
+       {"lifetime", duration_schema("0 = forever")},
+       {"frame_locked", {{"type", "boolean"}}},
+       {"metadata",
+        array_of(object("foxglove.KeyValuePair", {{"key", str("key")}, {"value", str("value")}}),
+                 "metadata")},
+       {"arrows", array_of(arrow, "arrows")},
+       {"cubes", array_of(cube, "cubes")},
+       {"spheres", array_of(sphere, "spheres")},
+       {"cylinders", array_of(cylinder, "cylinders")},
+       {"lines", array_of(line, "lines")},
+       {"triangles", array_of(triangles, "triangles")},
+       {"texts", array_of(text, "texts")},
+       {"models", array_of(model, "models")}});
+  const json deletion =
+      object("foxglove.SceneEntityDeletion", {{"timestamp", time_schema("time of the deletion")},
+                                              {"type", integer("0 matching id, 1 all", 0, 1)},
+                                              {"id", str("entity id")}});
+  return object("foxglove.SceneUpdate", {{"deletions", array_of(deletion, "deletions")},
+                                         {"entities", array_of(entity, "entities")}});
+}
+
+// ---- message building blocks ----
+json stamp(core::TimeNs t_ns) {
+  const core::TimeNs t = std::max<core::TimeNs>(t_ns, 0);
+  return {{"sec", t / core::kNsPerSec}, {"nsec", t % core::kNsPerSec}};
+}
+json vec3(double x, double y, double z) { return {{"x", x}, {"y", y}, {"z", z}}; }
+/// Rotation about +z by `yaw_rad`.
+json yaw_quat(double yaw_rad) {
+  return {{"x", 0.0}, {"y", 0.0}, {"z", std::sin(yaw_rad / 2.0)}, {"w", std::cos(yaw_rad / 2.0)}};
+}
+json pose(double x, double y, double z, double yaw_rad) {
+  return {{"position", vec3(x, y, z)}, {"orientation", yaw_quat(yaw_rad)}};
+}
+json color(double r, double g, double b, double a) {
+  return {{"r", r}, {"g", g}, {"b", b}, {"a", a}};
+}
+/// A body-frame point (x forward, y starboard) in the "boat" frame (x forward, y port).
+json body_point(double x_m, double y_m) { return vec3(x_m, -y_m, 0.0); }
+/// Body-frame bearing (clockwise from the bow) as a "boat"-frame yaw (counterclockwise).
+double bearing_to_yaw(double bearing_deg) { return -bearing_deg * kDegToRad; }
+
+json empty_entity(core::TimeNs t_ns, std::string_view id) {
+  return {{"timestamp", stamp(t_ns)},
+          {"frame_id", kBoatFrame},
+          {"id", id},
+          {"lifetime", {{"sec", 0}, {"nsec", 0}}},
+          {"frame_locked", true},
+          {"metadata", json::array()},
+          {"arrows", json::array()},
+          {"cubes", json::array()},
+          {"spheres", json::array()},
+          {"cylinders", json::array()},
+          {"lines", json::array()},
+          {"triangles", json::array()},
+          {"texts", json::array()},
+          {"models", json::array()}};
+}
+
+}  // namespace
+
+std::string_view schema_name(Schema schema) {
+  switch (schema) {
+    case Schema::kLocationFix:
+      return "foxglove.LocationFix";
+    case Schema::kLaserScan:
+      return "foxglove.LaserScan";
+    case Schema::kFrameTransform:
+      return "foxglove.FrameTransform";
+    case Schema::kLog:
+      return "foxglove.Log";
+    case Schema::kSceneUpdate:
+      return "foxglove.SceneUpdate";
+  }
+  return "";
+}
+
+std::string schema_json(Schema schema) {
+  json s;
+  switch (schema) {
+    case Schema::kLocationFix:
+      s = location_fix_schema();
+      break;
+    case Schema::kLaserScan:
+      s = laser_scan_schema();
+      break;
+    case Schema::kFrameTransform:
+      s = frame_transform_schema();
+      break;
+    case Schema::kLog:
+      s = log_schema();
+      break;
+    case Schema::kSceneUpdate:
+      s = scene_update_schema();
+      break;
+  }
+  s["$schema"] = "https://json-schema.org/draft/2020-12/schema";
+  return s.dump();
+}
+
+std::string location_fix_json(const msg::GnssFix& fix) {
+  const bool known = fix.h_acc_m >= 0.0 && fix.v_acc_m >= 0.0;
+  const double h2 = known ? fix.h_acc_m * fix.h_acc_m : 0.0;
+  const double v2 = known ? fix.v_acc_m * fix.v_acc_m : 0.0;
+  const json j = {{"timestamp", stamp(fix.stamp_ns)},
+                  {"frame_id", "gnss"},
+                  {"latitude", fix.lat_deg},
+                  {"longitude", fix.lon_deg},
+                  {"altitude", fix.height_msl_m},
+                  {"position_covariance", {h2, 0.0, 0.0, 0.0, h2, 0.0, 0.0, 0.0, v2}},
+                  {"position_covariance_type", known ? 2 : 0}};
+  return j.dump();
+}
+
+std::string laser_scan_json(const msg::LidarScan& scan, std::size_t bins) {
+  bins = std::max<std::size_t>(bins, 2);
+  // "boat" yaw angles in [-pi, pi): bin i covers [start + i*step, start + (i+1)*step).
+  const double step = 2.0 * std::numbers::pi / static_cast<double>(bins);
+  const double start = -std::numbers::pi;
+  std::vector<double> ranges(bins, 0.0);
+  std::vector<double> intensities(bins, 0.0);
+  const std::size_t n = std::min<std::size_t>(scan.point_count, msg::LidarScan::kMaxPoints);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = scan.points[i];
+    if (!(p.range_m > 0.0F) || !std::isfinite(p.range_m)) continue;
+    const double yaw = bearing_to_yaw(static_cast<double>(p.bearing_deg));
+    auto bin = static_cast<std::int64_t>(std::floor((yaw - start) / step));
+    bin = ((bin % static_cast<std::int64_t>(bins)) + static_cast<std::int64_t>(bins)) %
+          static_cast<std::int64_t>(bins);
+    const auto b = static_cast<std::size_t>(bin);
+    if (ranges[b] == 0.0 || static_cast<double>(p.range_m) < ranges[b]) {
+      ranges[b] = static_cast<double>(p.range_m);
+      intensities[b] = static_cast<double>(p.quality);
+    }
+  }
+  const json j = {{"timestamp", stamp(scan.stamp_ns)},
+                  {"frame_id", kBoatFrame},
+                  {"pose", pose(0.0, 0.0, 0.0, 0.0)},
+                  {"start_angle", start + step / 2.0},
+                  {"end_angle", start + step / 2.0 + step * static_cast<double>(bins - 1)},
+                  {"ranges", ranges},
+                  {"intensities", intensities}};
+  return j.dump();
+}
+
+std::string frame_transform_json(core::TimeNs stamp_ns, const TickViz& viz) {
+  // map is east-north-up: a heading (clockwise from north) is a yaw of 90 deg - heading.
+  const json j = {{"timestamp", stamp(stamp_ns)},
+                  {"parent_frame_id", kMapFrame},
+                  {"child_frame_id", kBoatFrame},
+                  {"translation", vec3(viz.east_m, viz.north_m, 0.0)},
+                  {"rotation", yaw_quat((90.0 - viz.heading_deg) * kDegToRad)}};
+  return j.dump();
+}
+
+std::string log_json(core::TimeNs stamp_ns, LogLevel level, std::string_view name,
+                     std::string_view message) {
+  const json j = {{"timestamp", stamp(stamp_ns)},
+                  {"level", static_cast<int>(level)},
+                  {"message", message},
+                  {"name", name},
+                  {"file", ""},
+                  {"line", 0}};
+  // Replace invalid UTF-8 (raw device text in a log line) rather than throw.
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
+                              std::string_view state_path) {
+  json boat = empty_entity(stamp_ns, "boat");
+  const double length = static_cast<double>(viz.hull_length_m);
+  const double beam = static_cast<double>(viz.hull_beam_m);
+  boat["cubes"].push_back({{"pose", pose(-length / 2.0 + 0.1, 0.0, 0.0, 0.0)},
+                           {"size", vec3(length, beam, 0.3)},
+                           {"color", color(0.9, 0.9, 0.9, 0.8)}});
+  boat["texts"].push_back({{"pose", pose(0.0, 0.0, 1.0, 0.0)},
+                           {"billboard", true},
+                           {"font_size", 14.0},
+                           {"scale_invariant", true},
+                           {"color", color(1.0, 1.0, 1.0, 1.0)},
+                           {"text", state_path}});
+  if (viz.target_valid) {
+    boat["arrows"].push_back({{"pose", pose(0.0, 0.0, 0.2, bearing_to_yaw(viz.target_bearing_deg))},
+                              {"shaft_length", 2.0},
+                              {"shaft_diameter", 0.08},
+                              {"head_length", 0.4},
+                              {"head_diameter", 0.25},
+                              {"color", color(0.1, 0.9, 0.2, 1.0)}});
+  }
+  if (viz.danger_valid) {
+    json points = json::array({body_point(0.0, 0.0)});
+    double sweep = viz.danger_end_deg - viz.danger_start_deg;
+    while (sweep < 0.0) sweep += 360.0;
+    const int steps = std::max(2, static_cast<int>(sweep / 5.0));
+    for (int i = 0; i <= steps; ++i) {
+      const double b = (viz.danger_start_deg + sweep * i / steps) * kDegToRad;
+      points.push_back(
+          body_point(viz.danger_range_m * std::cos(b), viz.danger_range_m * std::sin(b)));
+    }
+    points.push_back(body_point(0.0, 0.0));
+    boat["lines"].push_back({{"type", 0},
+                             {"pose", pose(0.0, 0.0, 0.1, 0.0)},
+                             {"thickness", 0.05},
+                             {"scale_invariant", false},
+                             {"points", points},
+                             {"color", color(1.0, 0.2, 0.1, 1.0)},
+                             {"colors", json::array()},
+                             {"indices", json::array()}});
+  }
+  const std::size_t n = std::min<std::size_t>(viz.obstacle_count, TickViz::kMaxObstacles);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& o = viz.obstacles[i];
+    const double d = 2.0 * static_cast<double>(o.radius_m);
+    boat["cylinders"].push_back(
+        {{"pose",
+          {{"position", body_point(static_cast<double>(o.x_m), static_cast<double>(o.y_m))},
+           {"orientation", yaw_quat(0.0)}}},
+         {"size", vec3(d, d, 0.5)},
+         {"bottom_scale", 1.0},
+         {"top_scale", 1.0},
+         {"color", color(1.0, 0.6, 0.0, 0.8)}});
+  }
+  const json j = {{"deletions", json::array()}, {"entities", json::array({boat})}};
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+}  // namespace coxswain::record::foxglove

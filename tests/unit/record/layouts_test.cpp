@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: Apache-2.0
+// Binary layouts: every message round-trips field for field, a full tick fits kMaxTickBytes, and
+// FORMAT.md documents exactly the layouts the code writes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <vector>
+
+#include "coxswain/record/layouts.hpp"
+
+namespace coxswain::record {
+namespace {
+
+template <class T>
+bool same_bytes(const T& a, const T& b) {
+  // Padding-free comparison through the encoder: equal encodings = equal fields.
+  std::vector<std::uint8_t> ea(kMaxLidarBytes), eb(kMaxLidarBytes);
+  return encode_sample(ea, 1, a) == encode_sample(eb, 1, b) && ea == eb;
+}
+
+msg::GnssFix make_fix() {
+  msg::GnssFix f;
+  f.stamp_ns = 123456789;
+  f.source = msg::GnssSource::kNmeaGga;
+  f.fix_type = msg::FixType::k3D;
+  f.fix_ok = true;
+  f.rtk = msg::RtkSolution::kFixed;
+  f.lat_deg = 35.123456789;
+  f.lon_deg = 129.987654321;
+  f.height_msl_m = 12.5;
+  f.h_acc_m = 0.02;
+  f.v_acc_m = 0.03;
+  f.hdop = 0.7;
+  f.satellites = 23;
+  f.velocity_valid = true;
+  f.vel_north_mps = 1.5;
+  f.vel_east_mps = -0.5;
+  f.ground_speed_mps = 1.58;
+  f.course_deg = -18.4;
+  f.utc_ns = 1700000000123456789;
+  f.itow_ms = 345600000;
+  return f;
+}
+
+msg::DeviceHealth make_health(msg::DeviceId id) {
+  msg::DeviceHealth h;
+  h.stamp_ns = 99;
+  h.device = id;
+  h.state = msg::DeviceState::kRunning;
+  h.bytes_received = 1U << 20U;
+  h.frames_ok = 1000;
+  h.checksum_errors = 3;
+  h.framing_errors = 4;
+  h.dropped_frames = 5;
+  h.reopen_count = 2;
+  h.last_frame_ns = 98;
+  h.rate_hz = 10.0;
+  h.set_detail(std::string(300, 'd'));  // longest detail the struct holds
+  return h;
+}
+
+TEST(Layouts, DecodedMessagesRoundTrip) {
+  std::vector<std::uint8_t> buf(kMaxLidarBytes);
+  std::uint64_t seq = 0;
+
+  const msg::GnssFix fix = make_fix();
+  msg::GnssFix fix2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 7, fix)), seq, fix2));
+  EXPECT_EQ(seq, 7U);
+  EXPECT_EQ(fix2.lat_deg, fix.lat_deg);
+  EXPECT_EQ(fix2.utc_ns, fix.utc_ns);
+  EXPECT_EQ(fix2.rtk, fix.rtk);
+  EXPECT_TRUE(same_bytes(fix, fix2));
+
+  msg::ImuSample imu;
+  imu.stamp_ns = 5;
+  imu.roll_deg = 1.0;
+  imu.heading_deg = -170.25;
+  imu.accel_g = {0.1, 0.2, 0.98};
+  imu.mag_ut = {30, -20, 40};
+  imu.has_inertial = true;
+  imu.sequence = 77;
+  msg::ImuSample imu2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 8, imu)), seq, imu2));
+  EXPECT_EQ(imu2.heading_deg, imu.heading_deg);
+  EXPECT_EQ(imu2.accel_g, imu.accel_g);
+  EXPECT_EQ(imu2.sequence, 77U);
+
+  auto scan = std::make_unique<msg::LidarScan>();
+  scan->stamp_ns = 10;
+  scan->duration_ns = 100'000'000;
+  scan->max_range_m = 12.0F;
+  scan->revolution = 42;
+  for (std::size_t i = 0; i < msg::LidarScan::kMaxPoints; ++i) {
+    ASSERT_TRUE(
+        scan->push({static_cast<float>(i) * 0.05F - 100.0F, 1.0F + static_cast<float>(i % 7),
+                    static_cast<std::uint8_t>(i), static_cast<std::int32_t>(i * 25)}));
+  }
+  const std::size_t n = encode_sample(buf, 9, *scan);
+  ASSERT_GT(n, 0U);
+  ASSERT_LE(n, kMaxLidarBytes);
+  auto scan2 = std::make_unique<msg::LidarScan>();
+  ASSERT_TRUE(decode_sample(std::span(buf).first(n), seq, *scan2));
+  ASSERT_EQ(scan2->point_count, scan->point_count);
+  EXPECT_EQ(scan2->points[4095].offset_us, scan->points[4095].offset_us);
+  EXPECT_EQ(scan2->points[100].bearing_deg, scan->points[100].bearing_deg);
+  EXPECT_EQ(scan2->revolution, 42U);
+  // A truncated message is rejected, never read past its end.
+  EXPECT_FALSE(decode_sample(std::span(buf).first(n - 1), seq, *scan2));
+
+  msg::CameraDetections cam;
+  cam.stamp_ns = 11;
+  cam.frame_index = 3;
+  cam.image_width_px = 640;
+  cam.image_height_px = 480;
+  ASSERT_TRUE(
+      cam.push({msg::Colour::kRed, msg::Shape::kTriangle, -12.5F, 100, 200, 30, 40, 900, 0.9F}));
+  msg::CameraDetections cam2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 1, cam)), seq, cam2));
+  ASSERT_EQ(cam2.count, 1U);
+  EXPECT_EQ(cam2.detections[0].shape, msg::Shape::kTriangle);
+  EXPECT_EQ(cam2.detections[0].bearing_deg, -12.5F);
+
+  msg::ArduinoStatus ard;
+  ard.stamp_ns = 12;
+  ard.applied_pulse_us = {1600, 1400};
+  ard.mode = msg::ControlMode::kAutonomous;
+  ard.estop = true;
+  ard.supply_v = 12.6;
+  ard.last_sequence_seen = 65535;
+  msg::ArduinoStatus ard2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 1, ard)), seq, ard2));
+  EXPECT_EQ(ard2.applied_pulse_us, ard.applied_pulse_us);
+  EXPECT_TRUE(ard2.estop);
+  EXPECT_EQ(ard2.last_sequence_seen, 65535);
+
+  msg::OperatorInput op;
+  op.start_count = 2;
+  op.hold = true;
+  op.target_colour = msg::Colour::kBlue;
+  msg::OperatorInput op2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 1, op)), seq, op2));
+  EXPECT_EQ(op2.start_count, 2U);
+  EXPECT_EQ(op2.target_colour, msg::Colour::kBlue);
+
+  const msg::DeviceHealth h = make_health(msg::DeviceId::kGnss);
+  msg::DeviceHealth h2;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(encode_sample(buf, 1, h)), seq, h2));
+  EXPECT_EQ(h2.detail_text(), h.detail_text());
+  EXPECT_EQ(h2.frames_ok, 1000U);
+  EXPECT_EQ(h2.device, msg::DeviceId::kGnss);
+
+  // Unknown layout versions are refused.
+  buf[0] = 2;
+  EXPECT_FALSE(decode_sample(std::span(buf).first(10), seq, op2));
+}
+
+TEST(Layouts, RawRoundTripAndBounds) {
+  const std::vector<std::uint8_t> bytes{0xA5, 0x5A, 0x05, 0x00};
+  std::vector<std::uint8_t> buf(64);
+  const RawRecord raw{msg::DeviceId::kArduino, drivers::RawDirection::kToDevice, 777, bytes};
+  const std::size_t n = encode_raw(buf, raw);
+  ASSERT_EQ(n, 16U + bytes.size());
+  RawRecord back;
+  ASSERT_TRUE(decode_raw(std::span(buf).first(n), back));
+  EXPECT_EQ(back.device, msg::DeviceId::kArduino);
+  EXPECT_EQ(back.direction, drivers::RawDirection::kToDevice);
+  EXPECT_EQ(back.stamp_ns, 777);
+  EXPECT_TRUE(std::equal(back.bytes.begin(), back.bytes.end(), bytes.begin(), bytes.end()));
+  EXPECT_FALSE(decode_raw(std::span(buf).first(n - 1), back));
+  EXPECT_EQ(encode_raw(std::span(buf).first(10), raw), 0U);  // too small: nothing, no overrun
+}
+
+TEST(Layouts, FullTickFitsAndRoundTrips) {
+  auto snap = std::make_unique<core::Snapshot>();
+  snap->lidar.sequence = 31;
+  snap->lidar.stamp_ns = 1000;
+  snap->lidar.value.point_count = 4000;
+  snap->lidar.value.revolution = 30;
+  snap->gnss = {make_fix(), 2000, 12};
+  snap->imu.sequence = 400;
+  snap->imu.value.heading_deg = 45.0;
+  for (std::size_t i = 0; i < msg::CameraDetections::kMaxDetections; ++i) {
+    ASSERT_TRUE(snap->camera.value.push(
+        {msg::Colour::kGreen, msg::Shape::kCircle, 1.0F, 2, 3, 4, 5, 6, 0.5F}));
+  }
+  snap->camera.sequence = 5;
+  for (std::size_t d = 0; d < msg::kDeviceCount; ++d) {
+    snap->health[d] = {make_health(static_cast<msg::DeviceId>(d)), 3000, d + 1};
+  }
+  msg::ActuatorCommand cmd;
+  cmd.pulse_us = {1650, 1420};
+  cmd.active = true;
+  cmd.led = msg::LedColour::kGreen;
+  const std::string path(400, 'p');  // longer than kept
+  std::vector<std::uint8_t> buf(kMaxTickBytes);
+  const std::size_t n = encode_tick(buf, 17, 5000, *snap, cmd, path);
+  ASSERT_GT(n, 0U) << "a full tick must fit kMaxTickBytes";
+  auto back = std::make_unique<TickRecordData>();
+  ASSERT_TRUE(decode_tick(std::span(buf).first(n), *back));
+  EXPECT_EQ(back->tick_index, 17U);
+  EXPECT_EQ(back->now_ns, 5000);
+  EXPECT_EQ(back->state_path.size(), kMaxStatePathBytes);
+  EXPECT_EQ(back->command.pulse_us, cmd.pulse_us);
+  EXPECT_TRUE(back->command.active);
+  EXPECT_EQ(back->snapshot.lidar.sequence, 31U);
+  EXPECT_EQ(back->snapshot.lidar.value.point_count, 4000U);
+  EXPECT_EQ(back->snapshot.gnss.sequence, 12U);
+  EXPECT_EQ(back->snapshot.gnss.value.lat_deg, make_fix().lat_deg);
+  EXPECT_EQ(back->snapshot.imu.value.heading_deg, 45.0);
+  EXPECT_EQ(back->snapshot.camera.value.count, msg::CameraDetections::kMaxDetections);
+  EXPECT_EQ(back->snapshot.health[4].sequence, 5U);
+  EXPECT_EQ(back->snapshot.health[4].value.device, msg::DeviceId::kCamera);
+  EXPECT_FALSE(back->snapshot.operator_input.valid());
+  EXPECT_FALSE(decode_tick(std::span(buf).first(n - 1), *back));
+}
+
+TEST(Layouts, FormatDocumentHoldsEveryLayoutText) {
+  std::ifstream in(std::string(COXSWAIN_SOURCE_DIR) + "/src/record/FORMAT.md");
+  ASSERT_TRUE(in) << "src/record/FORMAT.md missing";
+  const std::string doc{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  for (Layout l : {Layout::kRaw, Layout::kTick, Layout::kGnss, Layout::kImu, Layout::kLidar,
+                   Layout::kCamera, Layout::kArduino, Layout::kOperator, Layout::kHealth}) {
+    EXPECT_NE(doc.find(std::string(layout_schema_text(l))), std::string::npos)
+        << layout_schema_name(l) << " is not documented verbatim in FORMAT.md";
+  }
+}
+
+}  // namespace
+}  // namespace coxswain::record
