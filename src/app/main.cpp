@@ -66,9 +66,11 @@ int check_config(const std::vector<std::string>& files) {
         (void)coxswain::config::load_mission_config(file, errors);
         break;
       case coxswain::config::ConfigKind::kCourse:
-        kind_name = "course";
+      case coxswain::config::ConfigKind::kSimSensors:
+        kind_name = "simulator";
         errors.add({file, 0, "kind",
-                    "course files are validated by coxswain-sim, which is not in this build"});
+                    "is a simulator file: coxswain-sim validates it (`coxswain-sim course check` "
+                    "for courses)"});
         break;
       case coxswain::config::ConfigKind::kUnknown:
         break;

@@ -546,7 +546,7 @@ ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors) {
   if (!doc->IsMap() || !(*doc)["kind"] || !(*doc)["kind"].IsScalar()) {
     errors.add({path, 1, "kind",
                 "is required: every coxswain config file starts with "
-                "kind: boat | devices | mission | course"});
+                "kind: boat | devices | mission | course | sensors"});
     return ConfigKind::kUnknown;
   }
   const std::string kind = (*doc)["kind"].Scalar();
@@ -554,8 +554,9 @@ ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors) {
   if (kind == "devices") return ConfigKind::kDevices;
   if (kind == "mission") return ConfigKind::kMission;
   if (kind == "course") return ConfigKind::kCourse;
+  if (kind == "sensors") return ConfigKind::kSimSensors;
   errors.add({path, (*doc)["kind"].Mark().line + 1, "kind",
-              "must be one of: boat, devices, mission, course; got '" + kind + "'"});
+              "must be one of: boat, devices, mission, course, sensors; got '" + kind + "'"});
   return ConfigKind::kUnknown;
 }
 
