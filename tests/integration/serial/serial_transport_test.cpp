@@ -345,13 +345,19 @@ TEST(SerialTransport, AStalledDeviceDoesNotDelayAnother) {
   bad_transport.start();
   ASSERT_TRUE(wait_for([&] { return good.frame_count() >= 10 && bad.frame_count() >= 10; }));
 
-  // The bad device goes silent, then is unplugged, then comes back garbled, all while the good
-  // one is watched.
+  // The bad device goes silent, then is unplugged, then comes back garbled; the good one keeps
+  // delivering through each phase.
   const std::size_t first = good.frame_count();
+  const auto good_moves_on = [&good] {
+    const std::size_t before = good.frame_count();
+    return wait_for([&] { return good.frame_count() >= before + 5; });
+  };
   bad_host.set_silent(true);
   ASSERT_TRUE(wait_for([&] { return bad_transport.counters().reopen_count >= 1; }));
+  EXPECT_TRUE(good_moves_on());
   bad_host.unplug();
   ASSERT_TRUE(wait_for([&] { return bad_transport.counters().open_failures >= 2; }));
+  EXPECT_TRUE(good_moves_on());
   bad_host.set_silent(false);
   bad_host.set_garbage(1.0, 64);
   bad_host.replug();
@@ -366,9 +372,11 @@ TEST(SerialTransport, AStalledDeviceDoesNotDelayAnother) {
     worst_gap_ns = std::max(worst_gap_ns, frames[i].stamp_ns - frames[i - 1].stamp_ns);
     worst_latency_ns = std::max(worst_latency_ns, frames[i].stamp_ns - frames[i].emit_ns);
   }
-  // 100 Hz frames: a gap or delay of a quarter second would mean the good device waited.
-  EXPECT_LT(worst_gap_ns, 250 * core::kNsPerMs);
-  EXPECT_LT(worst_latency_ns, 250 * core::kNsPerMs);
+  // 100 Hz frames, typically a few ms apart. The bound is generous on purpose: it catches a
+  // transport blocked behind the other device (seconds: backoff, a blocking open), not the
+  // scheduling noise of a loaded machine running ThreadSanitizer (up to ~1 s seen).
+  EXPECT_LT(worst_gap_ns, 1500 * core::kNsPerMs);
+  EXPECT_LT(worst_latency_ns, 1500 * core::kNsPerMs);
   EXPECT_EQ(good_transport.counters().closes, 1U);  // only stop()
   EXPECT_EQ(good_transport.counters().reopen_count, 0U);
 }
