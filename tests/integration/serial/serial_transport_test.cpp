@@ -137,6 +137,7 @@ TEST(SerialTransport, DataFlowsWithArrivalStampsAndWritesReachTheDevice) {
   }
   const auto middle = latencies.begin() + static_cast<std::ptrdiff_t>(latencies.size() / 2);
   std::nth_element(latencies.begin(), middle, latencies.end());
+  RecordProperty("median_stamp_latency_us", static_cast<int>(*middle / core::kNsPerUs));
   EXPECT_LT(*middle, 50 * core::kNsPerMs);  // typically < 1 ms
 
   const TransportCounters c = transport.counters();
@@ -253,6 +254,9 @@ TEST(SerialTransport, StopIsPromptWhileSilentOrUnplugged) {
     const auto t0 = std::chrono::steady_clock::now();
     transport.stop();
     const auto took = std::chrono::steady_clock::now() - t0;
+    RecordProperty(
+        "stop_silent_us",
+        static_cast<int>(std::chrono::duration_cast<std::chrono::microseconds>(took).count()));
     EXPECT_LT(took, 100ms) << "stop() with a silent device took "
                            << std::chrono::duration<double, std::milli>(took).count() << " ms";
   }
@@ -263,6 +267,9 @@ TEST(SerialTransport, StopIsPromptWhileSilentOrUnplugged) {
     const auto t0 = std::chrono::steady_clock::now();
     transport.stop();  // while waiting out a backoff
     const auto took = std::chrono::steady_clock::now() - t0;
+    RecordProperty(
+        "stop_absent_us",
+        static_cast<int>(std::chrono::duration_cast<std::chrono::microseconds>(took).count()));
     EXPECT_LT(took, 100ms) << "stop() with an absent device took "
                            << std::chrono::duration<double, std::milli>(took).count() << " ms";
   }

@@ -48,6 +48,7 @@ struct TransportCounters {
 ///   then reopen after the backoff: 100 ms doubling to 2 s, reset once a reopened port produced
 ///   data. A kReopen verdict from on_poll does the same.
 /// - write: DeviceLink::write copies into a fixed-capacity queue; a full queue drops and counts.
+///   Accepted bytes are teed to `raw_sink` (kToDevice) when queued.
 /// - health: the session's view (fill_health) plus bytes_received and reopen_count, published
 ///   into `health_slot` (this transport is its single writer) at ~10 Hz and on every state change.
 /// No call ever blocks the device thread; stop() returns within a few milliseconds whatever the
