@@ -432,7 +432,7 @@ int decode_capture_file(CaptureFormat format, const std::filesystem::path& path,
   }
   CaptureDecoder decoder(format);
   const CaptureDecoder::Emit emit = [&out](const json& j) { out << j.dump() << "\n"; };
-  std::vector<char> buf(64 * 1024);
+  std::vector<char> buf(std::size_t{64} * 1024);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
     const auto n = static_cast<std::size_t>(in.gcount());

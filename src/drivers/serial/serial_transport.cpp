@@ -192,7 +192,8 @@ class SerialTransport::Impl final : public DeviceLink {
 
   void try_open() {
     if (stopping_ || open_) return;
-    set_transport_state(msg::DeviceState::kOpening, config_.path + ": opening");
+    // No "opening" record here: an attempt takes microseconds, and publishing it would make an
+    // absent device flap absent -> opening -> absent in the health log at every retry.
     boost::system::error_code ec;
     if (config_.path.empty()) {
       ec = boost::system::errc::make_error_code(boost::system::errc::no_such_file_or_directory);
