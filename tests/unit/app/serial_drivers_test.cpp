@@ -16,6 +16,7 @@
 #include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/device_probe.hpp"
 #include "coxswain/app/device_sessions.hpp"
+#include "coxswain/app/health_reporter.hpp"
 #include "coxswain/app/raw_capture_sink.hpp"
 #include "coxswain/app/serial_drivers.hpp"
 #include "coxswain/drivers/myahrs/codec.hpp"
@@ -196,6 +197,49 @@ TEST(SerialDrivers, DrivesEnabledDevicesWithASessionAndCapturesTheirBytes) {
   EXPECT_EQ(summary["codec"]["ascii_checksum_errors"], 0);
   EXPECT_EQ(samples.front()["type"], "sample");
   EXPECT_DOUBLE_EQ(samples.front()["roll_deg"].get<double>(), 1.5);
+}
+
+// A driven device that is absent is reported once, however often its transport retries.
+TEST(SerialDrivers, AnAbsentDeviceIsReportedOnce) {
+  TempDir dir;
+  config::DevicesConfig devices = devices_with(dir.path());
+  devices.lidar.enabled = false;
+  devices.imu.enabled = false;
+  auto store = std::make_unique<core::LatestStore>();
+  auto snapshot = std::make_unique<core::Snapshot>();
+  const core::SteadyClock clock;
+  drivers::serial::TransportOptions fast;
+  fast.backoff_initial_ns = 5 * core::kNsPerMs;  // many retries in a short test
+  fast.backoff_max_ns = 10 * core::kNsPerMs;
+  SerialDrivers drivers(
+      devices,
+      [](msg::DeviceId id) -> std::unique_ptr<drivers::DeviceSession> {
+        test::LineSessionOptions o;
+        o.device = id;
+        return std::make_unique<test::LineSession>(o);
+      },
+      *store, clock, nullptr, fast);
+  drivers.start();
+  HealthReporter reporter;
+  int reports = 0;
+  const auto end = std::chrono::steady_clock::now() + 500ms;
+  while (std::chrono::steady_clock::now() < end) {  // a 1 kHz "tick" watching the health
+    store->snapshot(*snapshot);
+    if (snapshot->health[static_cast<std::size_t>(msg::DeviceId::kGnss)].valid()) {
+      reports += reporter.report_changes(*snapshot);
+    }
+    std::this_thread::sleep_for(1ms);
+  }
+  const auto failures = drivers.counters(msg::DeviceId::kGnss).open_failures;
+  drivers.stop();
+  EXPECT_GE(failures, 10U);
+  const msg::DeviceHealth h = store->health_of(msg::DeviceId::kGnss).read().value;
+  EXPECT_EQ(h.state, msg::DeviceState::kAbsent);
+  EXPECT_NE(h.detail_text().find("ttyGPS: No such file or directory"), std::string_view::npos)
+      << h.detail_text();
+  EXPECT_EQ(reports, 1);  // "gnss: absent"; the slots nobody wrote are not reported
+  store->snapshot(*snapshot);
+  EXPECT_EQ(reporter.report_changes(*snapshot), 0);
 }
 
 TEST(RawCaptureSink, ConcurrentProducersLoseNothingWhenTheRingKeepsUp) {
