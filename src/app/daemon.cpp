@@ -12,7 +12,10 @@
 #include <thread>
 
 #include "coxswain/app/device_probe.hpp"
+#include "coxswain/app/device_sessions.hpp"
 #include "coxswain/app/health_reporter.hpp"
+#include "coxswain/app/raw_capture_sink.hpp"
+#include "coxswain/app/serial_drivers.hpp"
 #include "coxswain/app/systemd_notify.hpp"
 #include "coxswain/app/tick_loop.hpp"
 #include "coxswain/core/clock.hpp"
@@ -125,7 +128,20 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   auto store = std::make_unique<core::LatestStore>();
   auto snapshot = std::make_unique<core::Snapshot>();
   HealthReporter reporter;
-  DeviceProbe probe(config.devices, *store);
+
+  std::unique_ptr<RawCaptureSink> capture;
+  if (!options.capture_dir.empty()) {
+    capture = std::make_unique<RawCaptureSink>(options.capture_dir);
+    spdlog::info("capture mode: raw device bytes go to {}/<device>.raw",
+                 options.capture_dir.string());
+  }
+  // The recorder's raw hook will go here too; for now only capture mode takes the bytes.
+  drivers::RawByteSink* const raw_sink = capture.get();
+  SerialDrivers serial_drivers(
+      config.devices, [&](msg::DeviceId id) { return make_device_session(id, config, *store); },
+      *store, clock, raw_sink);
+  // Devices with a driver publish their own health; the probe watches only the others.
+  DeviceProbe probe(config.devices, *store, serial_drivers.driven());
 
   TickLoop loop(clock, &TickLoop::sleep_until_steady,
                 TickLoop::Params{config.mission.tick_rate_hz, kCountersPeriodNs});
@@ -135,6 +151,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
 
   SignalWaiter signals(loop);
   ProbeThread probe_thread(probe, clock);
+  serial_drivers.start();
 
   const core::TimeNs start_ns = clock.now_ns();
   const core::TimeNs stop_at_ns =
@@ -174,8 +191,18 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
       });
 
   notifier.stopping();
+  if (serial_drivers.drives(msg::DeviceId::kArduino)) {
+    // Give the Arduino driver two of its command periods to send neutral outputs before its
+    // port closes (the board's own failsafe would neutralise them too, but later).
+    const core::TimeNs now_ns = clock.now_ns();
+    store->command.publish(neutral_command(config.boat, now_ns), now_ns);
+    std::this_thread::sleep_for(
+        std::chrono::nanoseconds(core::sec_to_ns(2.0 / config.boat.actuators.command_rate_hz)));
+  }
+  serial_drivers.stop();  // each returns within milliseconds, whatever its device does
   const core::TimeNs end_ns = clock.now_ns();
   store->command.publish(neutral_command(config.boat, end_ns), end_ns);
+  if (capture) capture->stop();  // after the transports: they were its producers
   const int sig = signals.signal_number();
   spdlog::info("stopping{}: commanded neutral actuators; {} ticks in {:.1f} s, {} overruns",
                sig != 0 ? (sig == SIGINT ? " on SIGINT" : " on SIGTERM") : "", loop.total_ticks(),

@@ -9,7 +9,9 @@
 
 namespace coxswain::app {
 
-DeviceProbe::DeviceProbe(const config::DevicesConfig& d, core::LatestStore& store) : store_(store) {
+DeviceProbe::DeviceProbe(const config::DevicesConfig& d, core::LatestStore& store,
+                         const std::array<bool, msg::kDeviceCount>& driven)
+    : driven_(driven), store_(store) {
   devices_ = {ProbedDevice{msg::DeviceId::kLidar, d.lidar.enabled, d.lidar.path},
               ProbedDevice{msg::DeviceId::kImu, d.imu.enabled, d.imu.path},
               ProbedDevice{msg::DeviceId::kGnss, d.gnss.enabled, d.gnss.path},
@@ -48,6 +50,7 @@ msg::DeviceHealth DeviceProbe::probe(const ProbedDevice& device, core::TimeNs no
 
 void DeviceProbe::probe_once(core::TimeNs now_ns) {
   for (const ProbedDevice& device : devices_) {
+    if (driven_[static_cast<std::size_t>(device.id)]) continue;  // its driver publishes health
     store_.health_of(device.id).publish(probe(device, now_ns), now_ns);
   }
 }

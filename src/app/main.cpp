@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// coxswain: the autonomy daemon. `coxswain run` sails; `coxswain check-config FILE...` validates.
+// coxswain: the autonomy daemon. `coxswain run` sails; `coxswain check-config FILE...` validates;
+// `coxswain decode --device D FILE` prints a raw device capture as JSON lines.
 // Exit status: 0 success, 1 runtime failure, 2 configuration error.
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "coxswain/app/daemon.hpp"
+#include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/logging.hpp"
 #include "coxswain/app/run_dir.hpp"
 #include "coxswain/config/config.hpp"
@@ -118,6 +120,22 @@ int main(int argc, char** argv) {
   double run_for_s = 0.0;
   run->add_option("--run-for-s", run_for_s, "Stop by itself after this many seconds (0 = never)")
       ->check(CLI::NonNegativeNumber);
+  std::string capture_dir;
+  run->add_option("--capture-dir", capture_dir,
+                  "Also write each serial device's raw received bytes to DIR/<device>.raw "
+                  "(lidar, imu, gnss, arduino), for `coxswain decode`");
+
+  auto* decode = app.add_subcommand(
+      "decode",
+      "Print every message of a raw device capture as one JSON object per line, then a "
+      "{\"summary\": true, ...} line with the codec's error counters. An RPLIDAR capture must "
+      "include the answer descriptors (A5 5A ...), as captures from --capture-dir do");
+  std::string decode_device;
+  std::string decode_file;
+  decode->add_option("--device", decode_device, "Which codec: rplidar, myahrs, ublox or arduino")
+      ->required()
+      ->check(CLI::IsMember({"rplidar", "myahrs", "ublox", "arduino"}));
+  decode->add_option("file", decode_file, "The capture (e.g. DIR/gnss.raw)")->required();
 
   auto* check = app.add_subcommand("check-config", "Validate config files without running");
   std::vector<std::string> check_files;
@@ -127,6 +145,13 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (check->parsed()) return check_config(check_files);
+  if (decode->parsed()) {
+    const auto format = coxswain::app::parse_capture_format(decode_device);
+    if (!format) return kExitConfig;  // CLI11 already checked the name
+    return coxswain::app::decode_capture_file(*format, decode_file, std::cout, std::cerr) == 0
+               ? 0
+               : kExitRuntime;
+  }
 
   const auto level = coxswain::app::parse_log_level(log_level);
   if (!level) {
@@ -171,7 +196,7 @@ int main(int argc, char** argv) {
   spdlog::info("coxswain {} (git {}) starting", coxswain::kVersion, coxswain::kGitHash);
   int status = kExitRuntime;
   try {
-    status = coxswain::app::run_daemon(config, {run_dir, run_for_s});
+    status = coxswain::app::run_daemon(config, {run_dir, run_for_s, capture_dir});
   } catch (const std::exception& e) {
     spdlog::critical("fatal: {}", e.what());
   }

@@ -8,8 +8,9 @@
 namespace coxswain::app {
 
 struct RunOptions {
-  std::filesystem::path run_dir;  // already created; the log file and recordings go here
-  double run_for_s = 0.0;         // > 0: stop by itself after this long (tests, demos)
+  std::filesystem::path run_dir;      // already created; the log file and recordings go here
+  double run_for_s = 0.0;             // > 0: stop by itself after this long (tests, demos)
+  std::filesystem::path capture_dir;  // not empty: raw device bytes to <capture_dir>/<device>.raw
 };
 
 /// Blocks SIGINT/SIGTERM in the calling thread and so in every thread started after it (the

@@ -21,13 +21,17 @@ struct ProbedDevice {
 /// slots of the devices it probes.
 class DeviceProbe {
  public:
-  DeviceProbe(const config::DevicesConfig& devices, core::LatestStore& store);
+  /// Devices marked in `driven` have a running driver, which owns their health slot: they are
+  /// not probed.
+  DeviceProbe(const config::DevicesConfig& devices, core::LatestStore& store,
+              const std::array<bool, msg::kDeviceCount>& driven = {});
   /// Checks every device and publishes its health stamped `now_ns`.
   void probe_once(core::TimeNs now_ns);
   [[nodiscard]] static msg::DeviceHealth probe(const ProbedDevice& device, core::TimeNs now_ns);
 
  private:
   std::array<ProbedDevice, msg::kDeviceCount> devices_;
+  std::array<bool, msg::kDeviceCount> driven_;
   core::LatestStore& store_;
 };
 

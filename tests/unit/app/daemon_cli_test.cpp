@@ -172,4 +172,34 @@ TEST_F(CoxswainCli, RunsWithoutDevicesAndStopsOnSigterm) {
   EXPECT_GE(std::stoi(m[1].str()), 50);
 }
 
+// `coxswain decode` prints one JSON object per message and a summary line; it needs no config.
+TEST_F(CoxswainCli, DecodePrintsJsonLinesAndSummary) {
+  const std::string body = "GNGGA,123519.00,3507.12345,N,12648.00000,E,1,08,1.0,5.0,M,20.0,M,,";
+  unsigned x = 0;
+  for (const char c : body) x ^= static_cast<unsigned char>(c);
+  char tail[8];
+  std::snprintf(tail, sizeof tail, "*%02X\r\n", x);
+  const fs::path capture = write("gnss.raw", "noise$" + body + tail);
+  const Result r = run({"decode", "--device", "ublox", capture.string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(
+      std::regex_search(r.out, std::regex(R"(^\{.*"type":"fix".*\}\n\{.*"summary":true.*\}\n$)")))
+      << r.out;
+  EXPECT_NE(r.out.find("\"lat_deg\":35.1187"), std::string::npos) << r.out;
+
+  EXPECT_EQ(run({"decode", "--device", "ublox", (dir_ / "missing.raw").string()}).status, 1);
+  EXPECT_NE(run({"decode", "--device", "gps", capture.string()}).status, 0);
+}
+
+// Capture mode creates its folder and runs; with no device present it captures nothing.
+TEST_F(CoxswainCli, RunWithCaptureDir) {
+  const fs::path capture = dir_ / "capture";
+  const Result r =
+      run({"--devices", absent_devices().string(), "--log-dir", (dir_ / "runs").string(), "run",
+           "--run-for-s", "0.3", "--capture-dir", capture.string()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_directory(capture));
+  EXPECT_TRUE(fs::is_empty(capture));
+}
+
 }  // namespace

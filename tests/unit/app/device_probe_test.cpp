@@ -21,6 +21,19 @@ TEST(DeviceProbe, AbsentPresentAndDisabled) {
   EXPECT_EQ(disabled.state, msg::DeviceState::kDisabled);
 }
 
+TEST(DeviceProbe, LeavesDrivenDevicesToTheirDriver) {
+  auto store = std::make_unique<core::LatestStore>();
+  config::DevicesConfig devices;
+  devices.lidar.path = "/dev/ttyNoSuchLiDAR";
+  devices.imu.path = "/dev/null";
+  std::array<bool, msg::kDeviceCount> driven{};
+  driven[static_cast<std::size_t>(msg::DeviceId::kImu)] = true;
+  DeviceProbe probe(devices, *store, driven);
+  probe.probe_once(1);
+  EXPECT_EQ(store->health_of(msg::DeviceId::kImu).sequence(), 0U);  // never written
+  EXPECT_EQ(store->health_of(msg::DeviceId::kLidar).read().value.state, msg::DeviceState::kAbsent);
+}
+
 TEST(HealthReporter, ReportsEachChangeOnce) {
   auto store = std::make_unique<core::LatestStore>();
   auto snap = std::make_unique<core::Snapshot>();
