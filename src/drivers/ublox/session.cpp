@@ -38,7 +38,7 @@ UbloxSession::UbloxSession(const config::GnssDeviceConfig& config,
   const double rate = std::isfinite(config.rate_hz) && config.rate_hz > 0.0 ? config.rate_hz : 1.0;
   nmea_hold_ns_ = timing.nmea_hold_ns > 0
                       ? timing.nmea_hold_ns
-                      : std::max<core::TimeNs>(core::sec_to_ns(3.0 / rate), core::kNsPerSec);
+                      : std::max<core::TimeNs>(core::sec_to_ns(3.0 / rate), 2'500 * core::kNsPerMs);
   timing_.max_attempts = std::max(1, timing.max_attempts);
 }
 

@@ -46,7 +46,8 @@ struct SessionTiming {
   core::TimeNs rate_window_ns = 2 * core::kNsPerSec;   // rate_hz is measured over this window
   /// Silence after which the port is reopened; 0 = max(10 x timeout_ms, 5 s).
   core::TimeNs reopen_after_ns = 0;
-  /// How long a NAV-PVT (or GGA) suppresses the poorer NMEA fixes; 0 = max(3 periods, 1 s).
+  /// How long a NAV-PVT (or GGA) suppresses the poorer NMEA fixes; 0 = max(3 periods, 2.5 s):
+  /// long enough for a receiver left at its 1 Hz power-on rate.
   core::TimeNs nmea_hold_ns = 0;
 };
 
