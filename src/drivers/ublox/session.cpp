@@ -197,12 +197,11 @@ SessionVerdict UbloxSession::on_poll(DeviceLink& link, core::TimeNs now_ns) {
     }
   }
   if (rtcm_ != nullptr) {
+    // Whole frames while the link takes them; a refused frame (write queue full) stays queued
+    // for the next poll, so a burst is paced by the port instead of being cut.
     while (const RtcmQueue::Slot* s = rtcm_->front()) {
-      if (link.write(s->view())) {
-        ++rtcm_forwarded_;
-      } else {
-        ++rtcm_dropped_;
-      }
+      if (!link.write(s->view())) break;
+      ++rtcm_forwarded_;
       rtcm_->release();
     }
   }

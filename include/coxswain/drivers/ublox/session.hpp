@@ -21,7 +21,10 @@
 // estimate can name a chunk at most one frame later).
 //
 // RTCM 3: frames queued by an RtcmSource (another thread) are written to the receiver in
-// on_poll, whole, between our own configuration frames.
+// on_poll, whole, between our own configuration frames. A frame the link refuses (its write
+// queue is full) waits in the queue for the next poll. While the port is closed the bounded
+// queue fills and the live source drops the newest frames (RtcmSource), so at most one queue of
+// old corrections (64 frames, a few seconds) is sent after a reopen.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -77,7 +80,6 @@ class UbloxSession final : public DeviceSession {
   /// NMEA fixes not published because a richer message covered the epoch.
   [[nodiscard]] std::uint64_t fixes_suppressed() const { return fixes_suppressed_; }
   [[nodiscard]] std::uint64_t rtcm_frames_forwarded() const { return rtcm_forwarded_; }
-  [[nodiscard]] std::uint64_t rtcm_frames_dropped() const { return rtcm_dropped_; }
   [[nodiscard]] const CodecStats& codec_stats() const { return decoder_.stats(); }
   [[nodiscard]] const ConfigPlan& plan() const { return plan_; }
 
@@ -123,7 +125,6 @@ class UbloxSession final : public DeviceSession {
   std::uint64_t fixes_published_ = 0;
   std::uint64_t fixes_suppressed_ = 0;
   std::uint64_t rtcm_forwarded_ = 0;
-  std::uint64_t rtcm_dropped_ = 0;
   std::array<char, 160> detail_{};
 };
 

@@ -363,11 +363,18 @@ TEST(UbloxSession, ForwardsQueuedRtcmFramesWholeOnPoll) {
   EXPECT_EQ(link.writes[1], b);
   EXPECT_EQ(rtcm3_message_type(link.writes[1]), 1077);
   EXPECT_EQ(s.rtcm_frames_forwarded(), 2U);
-  link.accept = false;  // transport queue full: dropped and counted, not retried forever
+  // Transport queue full: the frame waits for the next poll, nothing is lost or split.
+  link.accept = false;
   ASSERT_TRUE(queue.push(a));
+  ASSERT_TRUE(queue.push(b));
   (void)s.on_poll(link, kT0 + 2 * kMs);
-  EXPECT_EQ(s.rtcm_frames_dropped(), 1U);
-  EXPECT_EQ(queue.front(), nullptr);
+  EXPECT_NE(queue.front(), nullptr);
+  link.accept = true;
+  (void)s.on_poll(link, kT0 + 3 * kMs);
+  ASSERT_EQ(link.writes.size(), 4U);
+  EXPECT_EQ(link.writes[2], a);
+  EXPECT_EQ(link.writes[3], b);
+  EXPECT_EQ(s.rtcm_frames_forwarded(), 4U);
 }
 
 // ---- Against the pure receiver emulator, in virtual time ----
