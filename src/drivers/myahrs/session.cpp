@@ -2,7 +2,6 @@
 #include "coxswain/drivers/myahrs/session.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 namespace coxswain::drivers::myahrs {
 
@@ -44,10 +43,11 @@ MyahrsSession::MyahrsSession(const config::ImuDeviceConfig& config,
 }
 
 void MyahrsSession::set_detail(std::string_view a, std::string_view b) {
+  // Copied byte by byte: an empty view may have a null data() (no memcpy from null).
   const std::size_t na = std::min(a.size(), detail_.size() - 1);
-  std::memcpy(detail_.data(), a.data(), na);
+  std::copy_n(a.begin(), na, detail_.begin());
   const std::size_t nb = std::min(b.size(), detail_.size() - 1 - na);
-  std::memcpy(detail_.data() + na, b.data(), nb);
+  std::copy_n(b.begin(), nb, detail_.begin() + static_cast<std::ptrdiff_t>(na));
   detail_[na + nb] = '\0';
 }
 
@@ -100,7 +100,7 @@ void MyahrsSession::on_response(const CommandResponse& r, DeviceLink& link) {
   if (r.ok && r.command == "version") {
     const auto ver = r.attribute("ver").value_or("");
     const std::size_t n = std::min(ver.size(), version_.size() - 1);
-    std::memcpy(version_.data(), ver.data(), n);
+    std::copy_n(ver.begin(), n, version_.begin());
     version_[n] = '\0';
   }
   if (!configuring()) return;

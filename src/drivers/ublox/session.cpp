@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace coxswain::drivers::ublox {
 
@@ -43,10 +42,11 @@ UbloxSession::UbloxSession(const config::GnssDeviceConfig& config,
 }
 
 void UbloxSession::set_detail(std::string_view a, std::string_view b) {
+  // Copied byte by byte: an empty view may have a null data() (no memcpy from null).
   const std::size_t na = std::min(a.size(), detail_.size() - 1);
-  std::memcpy(detail_.data(), a.data(), na);
+  std::copy_n(a.begin(), na, detail_.begin());
   const std::size_t nb = std::min(b.size(), detail_.size() - 1 - na);
-  std::memcpy(detail_.data() + na, b.data(), nb);
+  std::copy_n(b.begin(), nb, detail_.begin() + static_cast<std::ptrdiff_t>(na));
   detail_[na + nb] = '\0';
 }
 
