@@ -12,6 +12,10 @@
 // Heading: the decoder applies drivers::myahrs::true_heading_deg() with the configured
 // declination and the IMU mount yaw (boat.yaml mounts.imu.yaw_deg).
 //
+// Health: counters from the decoder; rate_hz is published samples per second over the last 2 s;
+// kConfiguring while the start-up runs, kRunning while frames arrive, kStale after timeout_ms of
+// silence; after reopen_after_ns of silence on_poll answers kReopen.
+//
 // Stamps: a sample is stamped with the arrival time of the read chunk that held its first byte:
 // the first frame start byte (`$ ~ @` or DLE) handed to the decoder after its previous output.
 // Garbage that itself holds such a byte before a frame can make the stamp one chunk early.

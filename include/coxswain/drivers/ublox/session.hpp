@@ -20,6 +20,11 @@
 // its frame (located from the frame length in the stream; after a resync inside the decoder the
 // estimate can name a chunk at most one frame later).
 //
+// Health: frames_ok / checksum_errors / framing_errors are the decoder's (every protocol on the
+// line); rate_hz is published fixes per second over the last 2 s (the navigation rate);
+// kConfiguring while the plan runs, kRunning while frames arrive, kStale after timeout_ms of
+// silence; after reopen_after_ns of silence on_poll answers kReopen.
+//
 // RTCM 3: frames queued by an RtcmSource (another thread) are written to the receiver in
 // on_poll, whole, between our own configuration frames. A frame the link refuses (its write
 // queue is full) waits in the queue for the next poll. While the port is closed the bounded

@@ -170,7 +170,6 @@ class Emulator final : public DeviceEmulator {
   msg::GnssFix truth_{};
   std::uint64_t epoch_counter_ = 0;
   std::uint64_t rng_state_;
-  bool corrupt_this_epoch_ = false;
   core::TimeNs next_epoch_ns_ = core::kNeverNs;
 
   const Capture* capture_ = nullptr;
