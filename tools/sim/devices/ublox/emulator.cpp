@@ -188,18 +188,19 @@ Capture::Capture(std::vector<std::uint8_t> bytes) : bytes_(std::move(bytes)) {
     consumed += step.consumed;
     if (step.produced) {
       const auto f = scanner.frame();
-      // The frame ends at most `consumed` bytes in; locate it in the capture by content.
-      const std::size_t end = consumed;
-      std::size_t start = end >= f.size() ? end - f.size() : 0;
-      if (!std::equal(f.begin(), f.end(), bytes_.begin() + static_cast<std::ptrdiff_t>(start))) {
-        // The scanner took one byte beyond the frame (see FrameScanner::next).
-        start = start > 0 ? start - 1 : 0;
+      // The frame lies before the `consumed` mark, usually right before it; after a resync the
+      // scanner may already hold bytes beyond it, so look back until the content matches.
+      std::size_t start = consumed >= f.size() ? consumed - f.size() : 0;
+      while (start > 0 &&
+             !std::equal(f.begin(), f.end(), bytes_.begin() + static_cast<std::ptrdiff_t>(start))) {
+        --start;
       }
       std::int64_t t_ms = -1;
       Clock kind = Clock::kNone;
-      if (scanner.kind() == ub::FrameKind::kUbx && f[2] == 0x01 && f.size() >= 6 + 8) {
-        const std::size_t off = f[3] == 0x14 ? 4 : 0;  // HPPOSLLH has iTOW at 4
-        t_ms = get_u4(f.subspan(6), off);
+      const std::size_t itow_off = f.size() > 3 && f[3] == 0x14 ? 4 : 0;  // HPPOSLLH: at 4
+      if (scanner.kind() == ub::FrameKind::kUbx && f[2] == 0x01 &&
+          f.size() >= 8 + itow_off + 4) {  // header, checksum and iTOW inside the payload
+        t_ms = get_u4(f.subspan(6), itow_off);
         kind = Clock::kItow;
       } else if (scanner.kind() == ub::FrameKind::kNmea && nmea_timed(f)) {
         t_ms = nmea_tod_ms(f);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -331,6 +332,35 @@ TEST(UbloxEmulator, ReplaysACapturePacedByItow) {
   // Commands are still answered during a replay.
   e.receive(ub::m8_set_rate(200).bytes(), t0);
   EXPECT_EQ(decode(e.poll(t0 + 600 * kMs)).acks.size(), 1U);
+}
+
+std::string nmea(std::string_view body) {
+  unsigned x = 0;
+  for (const char c : body) x ^= static_cast<unsigned char>(c);
+  char tail[8];
+  std::snprintf(tail, sizeof tail, "*%02X\r\n", x);
+  return "$" + std::string(body) + tail;
+}
+
+TEST(UbloxEmulator, NmeaOnlyCaptureIsPacedByUtcAcrossMidnightAndSkipsJunk) {
+  Bytes cap{0x00, 0xB5, 0x62, 0x13};  // junk, including a false UBX start
+  for (const char* tod : {"235959.50", "000000.50", "000001.50"}) {
+    const std::string rmc =
+        nmea(std::string("GPRMC,") + tod + ",A,3506.0,N,12648.0,E,0.1,0.0,010126,,,A");
+    const std::string gga =
+        nmea(std::string("GPGGA,") + tod + ",3506.0,N,12648.0,E,1,08,1.0,5.0,M,0,M,,");
+    const std::string txt = nmea("GPTXT,01,01,02,untimed");
+    for (const std::string* line : {&rmc, &gga, &txt})
+      cap.insert(cap.end(), line->begin(), line->end());
+    cap.push_back(0xD3);  // a false RTCM start between epochs
+  }
+  const Capture capture(cap);
+  ASSERT_EQ(capture.frames().size(), 9U);
+  EXPECT_EQ(capture.frames()[0].at_ns, 0);
+  EXPECT_EQ(capture.frames()[2].at_ns, 0);            // GPTXT inherits its epoch's time
+  EXPECT_EQ(capture.frames()[3].at_ns, 1'000 * kMs);  // across midnight
+  EXPECT_EQ(capture.frames()[8].at_ns, 2'000 * kMs);
+  for (const auto& f : capture.frames()) EXPECT_EQ(capture.bytes(f)[0], '$');
 }
 
 TEST(UbloxEmulatorRecordings, ReplaysTheGpsdNeoM8nCaptureByteExactPacedByItow) {
