@@ -152,6 +152,12 @@ void Emulator::respond_error(std::string_view name) {
   put_line(t.buf.data(), t.n, false);
 }
 
+void Emulator::receive(std::span<const std::uint8_t> host_bytes, core::TimeNs /*now_ns*/) {
+  receive(host_bytes);
+}
+
+void Emulator::set_divider(int divider) { divider_ = std::clamp(divider, 1, 1000); }
+
 void Emulator::receive(std::span<const std::uint8_t> host_bytes) {
   for (const std::uint8_t b : host_bytes) {
     if (b == '@') {

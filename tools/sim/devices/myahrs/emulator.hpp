@@ -12,7 +12,8 @@
 // - data in the configured form: ASCII `$RPY|QUAT|RPYIMU|QUATIMU|IMU|RIIMU` or binary DLE frames
 //   with nodes d (root), s, e, q, r, i; continuous mode every `divider` x 10 ms, trigger mode
 //   one message per `@trig`;
-// - faults: garbage bytes before data messages, corrupted checksums, total silence.
+// - faults: garbage bytes before data messages, corrupted checksums, total silence, and a rate
+//   change at run time (set_divider: the sensor reconfigured behind the host's back).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -24,6 +25,7 @@
 #include "coxswain/core/time.hpp"
 #include "coxswain/drivers/myahrs/heading.hpp"
 #include "coxswain/msg/imu_sample.hpp"
+#include "sim/devices/device_emulator.hpp"
 
 namespace coxswain::sim::devices::myahrs {
 
@@ -71,7 +73,7 @@ struct EmulatorStats {
 };
 
 /// The myAHRS+ as seen from its serial port. Thread-safety: none (the simulator drives it).
-class Emulator {
+class Emulator final : public DeviceEmulator {
  public:
   static constexpr std::size_t kOutputCapacity = 16384;
   static constexpr std::size_t kLineCapacity = 256;
@@ -87,10 +89,17 @@ class Emulator {
 
   /// Bytes written by the host (requests), split anywhere. Responses are queued for poll().
   void receive(std::span<const std::uint8_t> host_bytes);
+  /// DeviceEmulator: the sensor's answers do not depend on when a request arrives.
+  void receive(std::span<const std::uint8_t> host_bytes, core::TimeNs now_ns) override;
 
   /// Everything the sensor sends up to `now_ns`: queued responses, then data due in continuous
   /// mode. The view is valid until the next poll().
-  [[nodiscard]] std::span<const std::uint8_t> poll(core::TimeNs now_ns);
+  [[nodiscard]] std::span<const std::uint8_t> poll(core::TimeNs now_ns) override;
+
+  /// Run-time fault changes (silence on/off, garbage, corruption); the PRNG keeps its state.
+  void set_faults(const EmulatorFaults& faults) { config_.faults = faults; }
+  /// Run-time rate change: output every `divider` x 10 ms from now on (clamped to [1, 1000]).
+  void set_divider(int divider);
 
   [[nodiscard]] const EmulatorStats& stats() const { return stats_; }
   [[nodiscard]] int divider() const { return divider_; }
