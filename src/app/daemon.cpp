@@ -11,6 +11,7 @@
 #include <mutex>
 #include <thread>
 
+#include "coxswain/app/core_host.hpp"
 #include "coxswain/app/device_probe.hpp"
 #include "coxswain/app/device_sessions.hpp"
 #include "coxswain/app/health_reporter.hpp"
@@ -20,6 +21,13 @@
 #include "coxswain/app/tick_loop.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
+#include "coxswain/drivers/camera/camera_driver.hpp"
+#include "coxswain/drivers/ublox/rtcm_queue.hpp"
+#include "coxswain/drivers/ublox/rtcm_source.hpp"
+#include "coxswain/drivers/ublox/session.hpp"
+#include "coxswain/mission/mission_core.hpp"
+#include "coxswain/perception/vision_params.hpp"
+#include "coxswain/record/recorder.hpp"
 
 namespace coxswain::app {
 namespace {
@@ -129,29 +137,79 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   auto snapshot = std::make_unique<core::Snapshot>();
   HealthReporter reporter;
 
+  // The mission core is built first: a configuration it rejects stops the run before any
+  // device is touched.
+  auto core = std::make_unique<mission::MissionCore>(config);
+  auto out = std::make_unique<mission::CoreOutput>();
+  auto tick_viz = std::make_unique<record::TickViz>();
+
   std::unique_ptr<RawCaptureSink> capture;
   if (!options.capture_dir.empty()) {
     capture = std::make_unique<RawCaptureSink>(options.capture_dir);
     spdlog::info("capture mode: raw device bytes go to {}/<device>.raw",
                  options.capture_dir.string());
   }
-  // The recorder's raw hook will go here too; for now only capture mode takes the bytes.
-  drivers::RawByteSink* const raw_sink = capture.get();
+  std::unique_ptr<record::Recorder> recorder;
+  if (options.record) {
+    record::RecorderOptions recorder_options;
+    recorder_options.path = options.run_dir / "run.mcap";
+    recorder_options.config_yaml = config::to_yaml(config);
+    recorder_options.build_version = options.build_version;
+    recorder = std::make_unique<record::Recorder>(recorder_options, store.get(), clock);
+    if (recorder->start()) {
+      spdlog::info("flight recording to {}", recorder_options.path.string());
+    } else {
+      spdlog::error("flight recorder could not start ({}): sailing without a recording",
+                    recorder->stats().error);
+      recorder.reset();
+    }
+  }
+  RawByteTee raw_tee(recorder.get(), capture.get());
+  drivers::RawByteSink* const raw_sink =
+      (recorder || capture) ? static_cast<drivers::RawByteSink*>(&raw_tee) : nullptr;
+
+  // RTCM corrections for the GNSS receiver, when configured.
+  std::unique_ptr<drivers::ublox::RtcmQueue> rtcm_queue;
+  std::unique_ptr<drivers::ublox::RtcmSource> rtcm_source;
+  if (config.devices.gnss.enabled && !config.devices.gnss.rtcm_input.empty()) {
+    rtcm_queue = std::make_unique<drivers::ublox::RtcmQueue>();
+    rtcm_source =
+        std::make_unique<drivers::ublox::RtcmSource>(config.devices.gnss.rtcm_input, *rtcm_queue);
+  }
   SerialDrivers serial_drivers(
-      config.devices, [&](msg::DeviceId id) { return make_device_session(id, config, *store); },
+      config.devices,
+      [&](msg::DeviceId id) {
+        auto session = make_device_session(id, config, *store);
+        if (auto* gnss = dynamic_cast<drivers::ublox::UbloxSession*>(session.get());
+            gnss != nullptr && rtcm_queue) {
+          gnss->set_rtcm_queue(rtcm_queue.get());
+        }
+        return session;
+      },
       *store, clock, raw_sink);
+  std::unique_ptr<drivers::camera::CameraDriver> camera;
+  if (config.devices.camera.enabled) {
+    camera = std::make_unique<drivers::camera::CameraDriver>(
+        config.devices.camera, config.boat.mounts.camera, perception::VisionParams::defaults(),
+        store->camera, store->health_of(msg::DeviceId::kCamera), clock);
+  }
   // Devices with a driver publish their own health; the probe watches only the others.
-  DeviceProbe probe(config.devices, *store, serial_drivers.driven());
+  std::array<bool, msg::kDeviceCount> driven = serial_drivers.driven();
+  driven[static_cast<std::size_t>(msg::DeviceId::kCamera)] = true;  // driver or disabled
+  DeviceProbe probe(config.devices, *store, driven);
 
   TickLoop loop(clock, &TickLoop::sleep_until_steady,
                 TickLoop::Params{config.mission.tick_rate_hz, kCountersPeriodNs});
   spdlog::info("mission '{}' from {}; tick {:.1f} Hz; run directory {}", config.mission.name,
                config.mission.file, config.mission.tick_rate_hz, options.run_dir.string());
-  spdlog::info("no mission core in this build: the boat holds neutral outputs while the loop runs");
 
   SignalWaiter signals(loop);
   ProbeThread probe_thread(probe, clock);
   serial_drivers.start();
+  if (camera) camera->start();
+  if (rtcm_source) rtcm_source->start();
+  bool finished_reported = false;
+  std::string last_state_path;
 
   const core::TimeNs start_ns = clock.now_ns();
   const core::TimeNs stop_at_ns =
@@ -169,7 +227,23 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
         if (reporter.report_changes(*snapshot) > 0) {
           notifier.status(config.mission.name + ": " + HealthReporter::summary(*snapshot));
         }
-        store->command.publish(neutral_command(config.boat, tick.now_ns), tick.now_ns);
+        core->step(*snapshot, tick.now_ns, *out);
+        store->command.publish(out->command, tick.now_ns);
+        log_transitions(out->transitions);
+        if (recorder) {
+          fill_tick_viz(*out, config.boat, *tick_viz);
+          (void)recorder->record_tick({tick.index, tick.now_ns, snapshot.get(), out->command,
+                                       out->status.state_path.view(), tick_viz.get()});
+        }
+        if (out->transitions.count > 0 && out->status.state_path.view() != last_state_path) {
+          last_state_path = std::string(out->status.state_path.view());  // rare: on transitions
+          notifier.status(config.mission.name + ": " + last_state_path);
+        }
+        if (out->status.finished && !finished_reported) {
+          finished_reported = true;
+          spdlog::info("mission finished after {:.1f} s", out->status.mission_elapsed_s);
+          if (options.stop_when_finished) return false;
+        }
         if (watchdog_every_ns > 0 && (last_watchdog_ns == core::kNeverNs ||
                                       tick.now_ns - last_watchdog_ns >= watchdog_every_ns)) {
           notifier.watchdog();  // fed from the tick: a stuck tick means systemd restarts us
@@ -199,10 +273,18 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
     std::this_thread::sleep_for(
         std::chrono::nanoseconds(core::sec_to_ns(2.0 / config.boat.actuators.command_rate_hz)));
   }
+  if (rtcm_source) rtcm_source->stop();
+  if (camera) camera->stop();
   serial_drivers.stop();  // each returns within milliseconds, whatever its device does
   const core::TimeNs end_ns = clock.now_ns();
   store->command.publish(neutral_command(config.boat, end_ns), end_ns);
   if (capture) capture->stop();  // after the transports: they were its producers
+  if (recorder) {
+    recorder->stop();
+    const record::RecorderStats stats = recorder->stats();
+    spdlog::info("flight recording closed{}",
+                 stats.failed ? " after a write error: " + stats.error : "");
+  }
   const int sig = signals.signal_number();
   spdlog::info("stopping{}: commanded neutral actuators; {} ticks in {:.1f} s, {} overruns",
                sig != 0 ? (sig == SIGINT ? " on SIGINT" : " on SIGTERM") : "", loop.total_ticks(),

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/app/device_sessions.hpp"
 
+#include "coxswain/drivers/myahrs/session.hpp"
+#include "coxswain/drivers/ublox/session.hpp"
+
 namespace coxswain::app {
 
 const config::SerialDeviceConfig* serial_device_config(msg::DeviceId id,
@@ -20,17 +23,21 @@ const config::SerialDeviceConfig* serial_device_config(msg::DeviceId id,
   return nullptr;
 }
 
-std::unique_ptr<drivers::DeviceSession> make_device_session(
-    msg::DeviceId id, [[maybe_unused]] const config::Configuration& config,
-    [[maybe_unused]] core::LatestStore& store) {
-  // One `return std::make_unique<...Session>(...)` per device whose session is in the build.
+std::unique_ptr<drivers::DeviceSession> make_device_session(msg::DeviceId id,
+                                                            const config::Configuration& config,
+                                                            core::LatestStore& store) {
   switch (id) {
     case msg::DeviceId::kLidar:
-    case msg::DeviceId::kImu:
-    case msg::DeviceId::kGnss:
-    case msg::DeviceId::kArduino:
-    case msg::DeviceId::kCamera:
       return nullptr;
+    case msg::DeviceId::kImu:
+      return std::make_unique<drivers::myahrs::MyahrsSession>(config.devices.imu,
+                                                              config.boat.mounts.imu, store.imu);
+    case msg::DeviceId::kGnss:
+      return std::make_unique<drivers::ublox::UbloxSession>(config.devices.gnss, store.gnss);
+    case msg::DeviceId::kArduino:
+      return nullptr;
+    case msg::DeviceId::kCamera:
+      return nullptr;  // not a serial device: drivers::camera::CameraDriver
   }
   return nullptr;
 }

@@ -124,6 +124,11 @@ int main(int argc, char** argv) {
   run->add_option("--capture-dir", capture_dir,
                   "Also write each serial device's raw received bytes to DIR/<device>.raw "
                   "(lidar, imu, gnss, arduino), for `coxswain decode`");
+  bool no_record = false;
+  run->add_flag("--no-record", no_record, "Do not write the flight recording (run.mcap)");
+  bool stop_when_finished = false;
+  run->add_flag("--stop-when-finished", stop_when_finished,
+                "End the run once the mission reports finished");
 
   auto* decode = app.add_subcommand(
       "decode",
@@ -196,7 +201,15 @@ int main(int argc, char** argv) {
   spdlog::info("coxswain {} (git {}) starting", coxswain::kVersion, coxswain::kGitHash);
   int status = kExitRuntime;
   try {
-    status = coxswain::app::run_daemon(config, {run_dir, run_for_s, capture_dir});
+    coxswain::app::RunOptions run_options;
+    run_options.run_dir = run_dir;
+    run_options.run_for_s = run_for_s;
+    run_options.capture_dir = capture_dir;
+    run_options.record = !no_record;
+    run_options.build_version =
+        std::string("coxswain ") + coxswain::kVersion + " (git " + coxswain::kGitHash + ")";
+    run_options.stop_when_finished = stop_when_finished;
+    status = coxswain::app::run_daemon(config, run_options);
   } catch (const std::exception& e) {
     spdlog::critical("fatal: {}", e.what());
   }

@@ -2,6 +2,7 @@
 #pragma once
 // The daemon's run: wires the store, the device threads, the tick loop, signals and systemd.
 #include <filesystem>
+#include <string>
 
 #include "coxswain/config/config.hpp"
 
@@ -11,6 +12,9 @@ struct RunOptions {
   std::filesystem::path run_dir;      // already created; the log file and recordings go here
   double run_for_s = 0.0;             // > 0: stop by itself after this long (tests, demos)
   std::filesystem::path capture_dir;  // not empty: raw device bytes to <capture_dir>/<device>.raw
+  bool record = true;                 // flight recording to <run_dir>/run.mcap
+  std::string build_version;          // written into the recording
+  bool stop_when_finished = false;    // end the run once the mission reports finished
 };
 
 /// Blocks SIGINT/SIGTERM in the calling thread and so in every thread started after it (the
