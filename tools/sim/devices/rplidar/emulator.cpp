@@ -312,7 +312,10 @@ void Emulator::on_request(std::uint8_t cmd, std::span<const std::uint8_t> payloa
       rebooting_until_ns_ = now_ns + core::ms_to_ns(config_.reset_ms);
       banner_pending_ = major == 2 || major == 3;
       rx_phase_ = RxPhase::kSync;
-      if (config_.health_error_clears_on_reset) health_status_ = 0;
+      if (config_.health_error_clears_on_reset) {
+        health_status_ = 0;
+        health_code_ = 0;
+      }
       return;
     case Command::kGetInfo:
       ++stats_.info_requests;
