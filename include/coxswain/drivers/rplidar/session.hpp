@@ -157,7 +157,6 @@ class RplidarSession final : public DeviceSession {
 
   core::TimeNs opened_ns_ = core::kNeverNs;
   core::TimeNs last_data_ns_ = core::kNeverNs;  // arrival of the last decoded samples
-  core::TimeNs scan_started_ns_ = core::kNeverNs;
   std::uint64_t revolution_errors_at_start_ = 0;
   std::uint64_t published_ = 0;
   std::uint64_t dropped_revolutions_ = 0;
