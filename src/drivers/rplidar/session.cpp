@@ -438,7 +438,10 @@ void RplidarSession::handle(const Message& m, std::uint64_t end_index, DeviceLin
         window_start_ns_ = now_ns;
         window_errors_at_start_ = error_count();
         window_frames_at_start_ = decoder_.stats().codec.frames_ok;
-        revolution_errors_at_start_ = error_count();
+        errors_seen_ = error_count();
+        have_error_ = false;
+        revolution_first_sample_ = samples_added_;
+        last_revolution_points_ = 0;
         note_running();
       }
       handle_nodes(m.nodes, end_index);
@@ -465,6 +468,12 @@ void RplidarSession::handle_nodes(const NodeBatch& batch, std::uint64_t end_inde
   }
   const std::uint64_t first = end_index >= span ? end_index - span : 0;
   last_data_ns_ = arrival_of(end_index - 1);
+  // Decoder errors are noticed here, between batches, and attributed to the sample count so far.
+  if (const std::uint64_t e = error_count(); e != errors_seen_) {
+    errors_seen_ = e;
+    last_error_sample_ = samples_added_;
+    have_error_ = true;
+  }
   for (std::uint32_t i = 0; i < batch.count; ++i) {
     std::uint64_t offset = 0;
     switch (batch.source) {
@@ -481,13 +490,23 @@ void RplidarSession::handle_nodes(const NodeBatch& batch, std::uint64_t end_inde
         offset = 4 + 2 * std::uint64_t{i};
         break;
     }
+    const std::uint64_t sample = samples_added_++;
     if (!assembler_->add(batch.nodes[i], arrival_of(first + offset))) continue;
-    // A revolution completed.
-    const std::uint64_t errors = error_count();
-    const bool damaged = errors != revolution_errors_at_start_;
-    revolution_errors_at_start_ = errors;
+    // A revolution completed; this sample starts the next one. It is damaged when an error was
+    // noticed during it or shortly before its first sample: a capsule is decoded only once its
+    // successor arrived, so an error can remove samples that belong after the seam while the
+    // previous revolution is still open (its seam-crossing sample may be among them).
+    const bool damaged =
+        have_error_ && last_error_sample_ + kDecodeDelaySamples >= revolution_first_sample_;
+    revolution_first_sample_ = sample;
     const msg::LidarScan& scan = assembler_->scan();
-    if (damaged || scan.point_count < kMinPointsPerRevolution) {
+    // Samples lost without a detected error (a gap the decoder interpolated over) shrink the
+    // revolution: one much smaller than its predecessor is not trusted either.
+    const bool shrunk =
+        last_revolution_points_ > 0 &&
+        std::uint64_t{scan.point_count} * 10 < std::uint64_t{last_revolution_points_} * 9;
+    last_revolution_points_ = scan.point_count;
+    if (damaged || shrunk || scan.point_count < kMinPointsPerRevolution) {
       ++dropped_revolutions_;
       continue;
     }

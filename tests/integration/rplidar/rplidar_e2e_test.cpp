@@ -81,7 +81,21 @@ std::vector<float> truth_ranges() {
     }
     box += in_box ? 1 : 0;
   }
-  if (box < 3) return ::testing::AssertionFailure() << "box missing";
+  for (std::uint32_t i = 0; i < scan.point_count; ++i) {
+    const float prev = i == 0 ? scan.points[scan.point_count - 1].bearing_deg - 360.0F
+                              : scan.points[i - 1].bearing_deg;
+    if (scan.points[i].bearing_deg - prev > 2.0F) {
+      return ::testing::AssertionFailure() << "gap after bearing " << prev;
+    }
+  }
+  if (box < 3) {
+    auto f = ::testing::AssertionFailure();
+    f << "box missing in " << scan.point_count << " points:";
+    for (std::uint32_t i = 0; i < scan.point_count; i += 8) {
+      f << " " << core::wrap_deg_360(static_cast<double>(scan.points[i].bearing_deg) - 180.0);
+    }
+    return f;
+  }
   return ::testing::AssertionSuccess();
 }
 
@@ -175,7 +189,7 @@ TEST(RplidarEndToEnd, GarbageAndCorruptedCapsulesAreCountedAndNeverPublished) {
   f.seed = 5;
   rig.host.locked([&] { rig.emulator.set_faults(f); });
   rig.start();
-  ASSERT_TRUE(rig.wait_scans(15, 20s)) << rig.h().detail_text();
+  ASSERT_TRUE(rig.wait_scans(10, 25s)) << rig.h().detail_text();
   ASSERT_TRUE(wait_for([&] {
     const msg::DeviceHealth h = rig.h();
     return h.checksum_errors > 0 && h.framing_errors > 0 && h.dropped_frames > 0;

@@ -14,7 +14,8 @@
 //   samples within kFirstDataTimeoutMs (spin-up).
 // Scanning: nodes go through the ScanAssembler (body frame through the mount, seam astern); a
 // revolution is stamped with the arrival of the chunk holding the first byte of its first
-// sample and published. A revolution during which the decoder saw a checksum or framing error is
+// sample and published. A revolution touched by a decoder checksum or framing error (during it,
+// or within the decode delay before its first sample), or much smaller than its predecessor, is
 // dropped (counted in dropped_frames), so a damaged scan never reaches the core.
 // Health: no samples for kStaleMs = kStale; silence longer than timeout_ms, or too many decoder
 // errors in a one-second window, sends RESET and restarts the sequence; when kMaxRestarts restarts
@@ -80,6 +81,8 @@ class RplidarSession final : public DeviceSession {
   static constexpr std::uint64_t kMaxErrorsPerWindow = 20;
   /// Samples per revolution below which a revolution is not published (a stalled motor).
   static constexpr std::uint32_t kMinPointsPerRevolution = 16;
+  /// Samples a decoder error can reach back before it is noticed: two ultra capsules.
+  static constexpr std::uint64_t kDecodeDelaySamples = 2 * 96;
   /// A-series firmware < 1.17 has no GET_SAMPLERATE; the SDK assumes this (protocols.md 1.5).
   static constexpr double kLegacySampleDurationUs = 476.0;
 
@@ -157,7 +160,13 @@ class RplidarSession final : public DeviceSession {
 
   core::TimeNs opened_ns_ = core::kNeverNs;
   core::TimeNs last_data_ns_ = core::kNeverNs;  // arrival of the last decoded samples
-  std::uint64_t revolution_errors_at_start_ = 0;
+  // Damage attribution (see handle_nodes).
+  std::uint64_t samples_added_ = 0;
+  std::uint64_t errors_seen_ = 0;
+  std::uint64_t last_error_sample_ = 0;
+  bool have_error_ = false;
+  std::uint64_t revolution_first_sample_ = 0;
+  std::uint32_t last_revolution_points_ = 0;
   std::uint64_t published_ = 0;
   std::uint64_t dropped_revolutions_ = 0;
   // Error window.

@@ -141,6 +141,13 @@ void expect_scan_matches_truth(const msg::LidarScan& scan) {
     }
   }
   EXPECT_GT(box, 3);
+  // No gap: a revolution with lost samples must not be published.
+  for (std::uint32_t i = 1; i < scan.point_count; ++i) {
+    EXPECT_LT(scan.points[i].bearing_deg - scan.points[i - 1].bearing_deg, 2.0F)
+        << "gap after bearing " << scan.points[i - 1].bearing_deg;
+  }
+  EXPECT_LT(scan.points[0].bearing_deg + 360.0F - scan.points[scan.point_count - 1].bearing_deg,
+            2.0F);
 }
 
 struct ModelCase {
