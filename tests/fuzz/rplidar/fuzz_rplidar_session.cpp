@@ -78,7 +78,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } else {
     emu::EmulatorConfig ec;
-    ec.model = static_cast<emu::Model>((sel >> 2) % 6);
+    // S2 (32 kSa/s) is left out: it makes each input ten times slower for no new code path.
+    static constexpr emu::Model kModels[] = {emu::Model::kA1, emu::Model::kA2, emu::Model::kA3,
+                                             emu::Model::kS1, emu::Model::kC1};
+    ec.model = kModels[(sel >> 2) % 5];
     ec.spin_up_ms = 0;
     emu::Emulator e(ec);
     std::vector<float> ranges(360);
@@ -89,7 +92,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     session.on_open(link, now);
     std::vector<std::uint8_t> buf;
     std::size_t k = 0;
-    for (int step = 0; step < 40; ++step) {  // 400 ms: start-up and a few revolutions
+    for (int step = 0; step < 30; ++step) {  // 300 ms: start-up and two revolutions
       now += 10'000'000;
       link.now_ns = now;
       const auto out = e.poll(now);

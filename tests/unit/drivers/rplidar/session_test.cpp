@@ -407,7 +407,7 @@ TEST(RplidarSession, CapsulesLostJustAfterTheSeamNeverLeaveAGapInAPublishedRevol
   rig.mutate = [&](std::vector<std::uint8_t>& bytes) {
     if (bytes.size() % kCapsuleSize != 0) return;
     for (std::size_t off = 0; off < bytes.size(); off += kCapsuleSize) {
-      const unsigned q6 = (bytes[off + 2] | (bytes[off + 3] << 8)) & 0x7FFFU;
+      const auto q6 = static_cast<unsigned>(bytes[off + 2] | (bytes[off + 3] << 8)) & 0x7FFFU;
       const double start_deg = q6 / 64.0;
       const bool seam = start_deg < 30.0;
       if (seam && !in_seam) ++revolution;
