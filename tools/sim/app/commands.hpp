@@ -10,4 +10,8 @@ namespace coxswain::sim::app {
 /// `course drive FILE --servo-us S --thrust-us T --seconds N [--json OUT] [--svg OUT]`.
 void add_course_commands(CLI::App& app, int& exit_code);
 
+/// `run --course FILE --mission FILE [--seed N] [--sensors FILE] [--out DIR]` and
+/// `batch --kind K --runs N [--seed0 S] [--jobs J] [--baseline]`.
+void add_run_commands(CLI::App& app, int& exit_code);
+
 }  // namespace coxswain::sim::app

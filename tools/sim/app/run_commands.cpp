@@ -1,0 +1,306 @@
+// SPDX-License-Identifier: Apache-2.0
+// `coxswain-sim run` (one mission in lockstep on one course) and `coxswain-sim batch`
+// (generated courses on a thread pool, JSON lines and a summary).
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "commands.hpp"
+#include "coxswain/guidance/avoidance.hpp"
+#include "sim/runner/mission_run.hpp"
+#include "sim/scoring/scorer.hpp"
+#include "sim/world/course.hpp"
+#include "sim/world/generator.hpp"
+
+namespace coxswain::sim::app {
+namespace {
+
+std::optional<msg::Colour> parse_colour(const std::string& name) {
+  for (int i = 0; i < 16; ++i) {
+    const auto c = static_cast<msg::Colour>(i);
+    if (msg::colour_name(c) == name) return c;
+  }
+  return std::nullopt;
+}
+
+std::optional<msg::Shape> parse_shape(const std::string& name) {
+  for (int i = 0; i < 8; ++i) {
+    const auto s = static_cast<msg::Shape>(i);
+    if (msg::shape_name(s) == name) return s;
+  }
+  return std::nullopt;
+}
+
+struct Files {
+  std::string boat = "config/boat.yaml";
+  std::string devices = "config/devices.yaml";
+  std::string sensors;  // empty: built-in sensor defaults
+};
+
+bool load_common(const Files& files, config::Configuration& config,
+                 sensors::SensorConfig& sensor_config, config::ConfigErrors& errors) {
+  config.boat = config::load_boat_config(files.boat, errors);
+  config.devices = config::load_devices_config(files.devices, errors);
+  if (!files.sensors.empty()) {
+    const auto s = sensors::load_sensor_config_file(files.sensors, errors);
+    if (s) sensor_config = *s;
+  }
+  return errors.empty();
+}
+
+/// The documents' own algorithms through mission-config overrides: the 2022 selection code
+/// with its defects and waypoint hopping by pure bearing (no line following).
+void apply_baseline(config::MissionConfig& m) {
+  m.avoidance.strategy = guidance::Strategy::kSelectionNaive2022;
+  m.waypoints.line_following = false;
+}
+
+void print_summary_line(const std::string& label, const runner::MissionRunResult& r) {
+  const auto& s = r.outcome.score;
+  std::cout << label << ": " << (r.passed ? "PASS" : "FAIL") << " " << s.course << " ("
+            << scoring::rules_name(s.rules) << ") t " << s.elapsed_s << " s, score " << s.score_s
+            << " s, collisions " << s.collisions << ", mission " << r.status.state_path.view()
+            << ", hash " << std::hex << r.outcome.trajectory_hash << std::dec << "\n";
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double idx = p * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(idx));
+  const auto hi = static_cast<std::size_t>(std::ceil(idx));
+  return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
+}
+
+}  // namespace
+
+void add_run_commands(CLI::App& app, int& exit_code) {
+  static Files files;
+  // ---- run ----
+  auto* run = app.add_subcommand("run", "sail a mission on a course in lockstep (real core)");
+  static std::string course_file;
+  static std::string mission_file;
+  static std::uint64_t seed = 1;
+  static std::string out_dir;
+  static std::string target_colour;
+  static std::string target_shape;
+  static bool no_camera = false;
+  static bool baseline = false;
+  static double max_time_s = 900.0;
+  run->add_option("--course", course_file, "course file")->required()->check(CLI::ExistingFile);
+  run->add_option("--mission", mission_file, "mission file")->required()->check(CLI::ExistingFile);
+  run->add_option("--seed", seed, "disturbance and sensor-noise seed");
+  run->add_option("--sensors", files.sensors, "simulated sensor file (config/sim/sensors.yaml)");
+  run->add_option("--boat", files.boat, "boat file");
+  run->add_option("--devices", files.devices, "devices file");
+  run->add_option("--out", out_dir, "write result.json and track.svg here");
+  run->add_option("--target-colour", target_colour, "docking target colour (overrides course)");
+  run->add_option("--target-shape", target_shape, "docking target shape (overrides course)");
+  run->add_flag("--no-camera", no_camera, "no camera frames");
+  run->add_flag("--baseline", baseline, "the documents' own algorithms (2022 naive, bearing)");
+  run->add_option("--max-time", max_time_s, "hard stop, simulated seconds");
+  run->callback([&exit_code] {
+    config::ConfigErrors errors;
+    const world::Course course = world::load_course_file(course_file, errors);
+    config::Configuration config;
+    runner::MissionRunOptions options;
+    load_common(files, config, options.sensors, errors);
+    config.mission = config::load_mission_config(mission_file, errors);
+    if (!errors.empty()) {
+      std::cerr << errors.format();
+      exit_code = 2;
+      return;
+    }
+    config.mission = runner::fit_mission_to_course(config.mission, course.world);
+    if (baseline) apply_baseline(config.mission);
+    options.seed = seed;
+    options.camera = !no_camera;
+    options.max_time_s = max_time_s;
+    if (!target_colour.empty()) {
+      const auto c = parse_colour(target_colour);
+      if (!c) {
+        std::cerr << "unknown colour " << target_colour << "\n";
+        exit_code = 2;
+        return;
+      }
+      options.target_colour = *c;
+    }
+    if (!target_shape.empty()) {
+      const auto s = parse_shape(target_shape);
+      if (!s) {
+        std::cerr << "unknown shape " << target_shape << "\n";
+        exit_code = 2;
+        return;
+      }
+      options.target_shape = *s;
+    }
+    runner::MissionRunResult r;
+    try {
+      r = runner::run_mission(course, config, options);
+    } catch (const std::exception& e) {
+      std::cerr << "mission rejected: " << e.what() << "\n";
+      exit_code = 2;
+      return;
+    }
+    print_summary_line("run", r);
+    if (!out_dir.empty()) {
+      std::filesystem::create_directories(out_dir);
+      std::ofstream(out_dir + "/result.json") << runner::result_json(r, seed).dump(2) << "\n";
+      std::ofstream(out_dir + "/track.svg")
+          << scoring::trajectory_svg(course.world, config.boat.hull, r.path, &r.outcome.score);
+    }
+    exit_code = r.passed ? 0 : 1;
+  });
+
+  // ---- batch ----
+  auto* batch = app.add_subcommand("batch", "sail generated courses on all cores");
+  static std::string kind_name = "obstacle";
+  static int runs = 100;
+  static std::uint64_t seed0 = 1;
+  static unsigned jobs = 0;
+  static bool batch_baseline = false;
+  static bool batch_no_camera = false;
+  static std::string missions_dir = "config/missions";
+  static std::string strategy;
+  batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
+      ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+  batch->add_option("--runs", runs, "number of generated courses");
+  batch->add_option("--seed0", seed0, "seed of the first course (run i uses seed0 + i)");
+  batch->add_option("--jobs", jobs, "threads (default: all cores)");
+  batch->add_flag("--baseline", batch_baseline, "the documents' own algorithms");
+  batch->add_flag("--no-camera", batch_no_camera, "no camera frames");
+  batch->add_option("--missions", missions_dir, "folder of the shipped mission files");
+  batch->add_option("--strategy", strategy, "avoidance strategy override");
+  batch->add_option("--sensors", files.sensors, "simulated sensor file");
+  batch->add_option("--boat", files.boat, "boat file");
+  batch->add_option("--devices", files.devices, "devices file");
+  batch->callback([&exit_code] {
+    world::CourseKind kind = world::CourseKind::kObstacle;
+    std::string mission_name = "obstacle_course.yaml";
+    if (kind_name == "hopping") {
+      kind = world::CourseKind::kHopping;
+      mission_name = "hopping.yaml";
+    } else if (kind_name == "docking") {
+      kind = world::CourseKind::kDocking;
+      mission_name = "docking.yaml";
+    } else if (kind_name == "kaboat2026") {
+      kind = world::CourseKind::kKaboat2026;
+      mission_name = "kaboat2026.yaml";
+    }
+    config::ConfigErrors errors;
+    config::Configuration base;
+    sensors::SensorConfig sensor_config;
+    load_common(files, base, sensor_config, errors);
+    base.mission = config::load_mission_config(missions_dir + "/" + mission_name, errors);
+    if (!errors.empty()) {
+      std::cerr << errors.format();
+      exit_code = 2;
+      return;
+    }
+    if (batch_baseline) apply_baseline(base.mission);
+    if (!strategy.empty()) {
+      const auto s = guidance::parse_strategy(strategy);
+      if (!s) {
+        std::cerr << "unknown strategy " << strategy << "\n";
+        exit_code = 2;
+        return;
+      }
+      base.mission.avoidance.strategy = *s;
+    }
+    const unsigned n_jobs = jobs > 0 ? jobs : std::max(1U, std::thread::hardware_concurrency());
+    const bool tty = isatty(STDERR_FILENO) != 0;
+    std::vector<nlohmann::json> results(static_cast<std::size_t>(std::max(runs, 0)));
+    std::atomic<int> next{0};
+    std::atomic<int> done{0};
+    std::mutex out_mutex;
+    auto worker = [&] {
+      for (;;) {
+        const int i = next.fetch_add(1);
+        if (i >= runs) return;
+        const std::uint64_t s = seed0 + static_cast<std::uint64_t>(i);
+        nlohmann::json j;
+        try {
+          const world::Course course = world::generate_course(kind, s);
+          config::Configuration config = base;
+          config.mission = runner::fit_mission_to_course(base.mission, course.world);
+          runner::MissionRunOptions options;
+          options.seed = s;
+          options.sensors = sensor_config;
+          options.camera = !batch_no_camera;
+          options.record_path = false;
+          const runner::MissionRunResult r = runner::run_mission(course, config, options);
+          const auto& sc = r.outcome.score;
+          j = {{"seed", s},
+               {"kind", kind_name},
+               {"baseline", batch_baseline},
+               {"passed", r.passed},
+               {"completed", sc.completed},
+               {"collisions", sc.collisions},
+               {"elapsed_s", sc.elapsed_s},
+               {"score_s", sc.score_s},
+               {"mission_state", std::string(r.status.state_path.view())}};
+        } catch (const std::exception& e) {
+          j = {{"seed", s}, {"kind", kind_name}, {"passed", false}, {"error", e.what()}};
+        }
+        const std::lock_guard<std::mutex> lock(out_mutex);
+        std::cout << j.dump() << "\n" << std::flush;
+        results[static_cast<std::size_t>(i)] = j;
+        const int d = ++done;
+        if (tty) {
+          const int width = 40;
+          const int filled = runs > 0 ? d * width / runs : width;
+          std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+                    << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << d
+                    << "/" << runs << std::flush;
+          if (d == runs) std::cerr << "\n";
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 0; t < n_jobs; ++t) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+    int passed = 0;
+    int collisions = 0;
+    int zero = 0;
+    std::vector<double> times;
+    std::vector<double> scores;
+    for (const auto& j : results) {
+      if (j.value("passed", false)) ++passed;
+      const int c = j.value("collisions", 0);
+      collisions += c;
+      if (c == 0 && !j.contains("error")) ++zero;
+      if (j.value("passed", false)) {
+        times.push_back(j.value("elapsed_s", 0.0));
+        scores.push_back(j.value("score_s", 0.0));
+      }
+    }
+    const double n = std::max(1, runs);
+    nlohmann::json summary = {{"summary", true},
+                              {"kind", kind_name},
+                              {"baseline", batch_baseline},
+                              {"runs", runs},
+                              {"success_rate", passed / n},
+                              {"collisions", collisions},
+                              {"zero_collision_runs", zero},
+                              {"zero_collision_rate", zero / n},
+                              {"time_p50_s", percentile(times, 0.5)},
+                              {"time_p90_s", percentile(times, 0.9)},
+                              {"score_p50_s", percentile(scores, 0.5)},
+                              {"score_p90_s", percentile(scores, 0.9)}};
+    std::cout << summary.dump() << "\n";
+  });
+}
+
+}  // namespace coxswain::sim::app

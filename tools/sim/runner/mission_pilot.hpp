@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// The daemon's tick in the simulator: runner::Pilot backed by the real mission::MissionCore (the
+// same core, configuration and snapshot path the daemon's tick thread uses). Keeps the last
+// CoreOutput and every state transition (for result.json). Deterministic; runner thread only.
+// The transition log grows with the run (a host-side record, not the pure core).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "coxswain/config/config.hpp"
+#include "coxswain/mission/mission_core.hpp"
+#include "sim/runner/pilot.hpp"
+
+namespace coxswain::sim::runner {
+
+/// One logged state transition, as text.
+struct TransitionRecord {
+  double t_s = 0.0;
+  std::string from;
+  std::string to;
+  std::string reason;
+};
+
+class MissionPilot final : public Pilot {
+ public:
+  /// Throws std::invalid_argument when the mission core rejects `config`.
+  explicit MissionPilot(const config::Configuration& config);
+  void step(const core::Snapshot& snapshot, core::TimeNs now_ns,
+            msg::ActuatorCommand& out) override;
+
+  [[nodiscard]] const mission::CoreOutput& output() const { return *out_; }
+  [[nodiscard]] const mission::MissionStatus& status() const { return out_->status; }
+  [[nodiscard]] const std::vector<TransitionRecord>& transitions() const { return transitions_; }
+  /// True while the current task looks through the camera (course 1, course 2, docking).
+  [[nodiscard]] bool camera_wanted() const;
+  /// Time of the first tick the status reported `holding` after `since_ns` (kNeverNs = none).
+  [[nodiscard]] core::TimeNs first_hold_after(core::TimeNs since_ns) const;
+
+ private:
+  config::MissionConfig mission_;
+  std::unique_ptr<mission::MissionCore> core_;
+  std::unique_ptr<mission::CoreOutput> out_;
+  std::vector<TransitionRecord> transitions_;
+  std::vector<core::TimeNs> hold_entries_;
+  bool was_holding_ = false;
+};
+
+}  // namespace coxswain::sim::runner

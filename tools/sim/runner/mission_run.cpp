@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "sim/runner/mission_run.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "coxswain/core/angles.hpp"
+#include "coxswain/core/geodesy.hpp"
+#include "sim/runner/realistic_sensors.hpp"
+
+namespace coxswain::sim::runner {
+
+config::MissionConfig fit_mission_to_course(const config::MissionConfig& mission,
+                                            const world::World& world) {
+  config::MissionConfig m = mission;
+  const core::LocalFrame frame(world.origin);
+  const auto geo = [&frame](core::NavPoint p) { return frame.to_geo(p); };
+  m.origin = geo(world.start.position);
+  std::size_t course_wp = 0;  // next world waypoint for the 2026 courses
+  for (auto& task : m.tasks) {
+    switch (task.type) {
+      case config::TaskType::kHopping:
+        if (!world.waypoints.empty()) {
+          task.waypoints.clear();
+          for (const auto& w : world.waypoints) task.waypoints.push_back(geo(w.position));
+        }
+        break;
+      case config::TaskType::kObstacleCourse:
+        if (!world.gates.empty()) {
+          const auto& g = world.gates.back();
+          const core::NavPoint c{(g.left.north_m + g.right.north_m) / 2.0,
+                                 (g.left.east_m + g.right.east_m) / 2.0};
+          // Forward of the gate: the left-to-right direction turned 90 deg to port (heading - 90).
+          const double dn = g.right.north_m - g.left.north_m;
+          const double de = g.right.east_m - g.left.east_m;
+          const double len = std::hypot(dn, de);
+          const core::NavPoint goal{c.north_m + 5.0 * de / len, c.east_m - 5.0 * dn / len};
+          task.waypoints = {geo(goal)};
+        }
+        break;
+      case config::TaskType::kDocking:
+        if (task.docking_style == config::DockingStyle::kKaboat2022 && !world.docks.empty()) {
+          task.slips.clear();
+          for (const auto& d : world.docks) task.slips.push_back(geo(d.entrance));
+          task.dock_heading_deg = world.docks.front().entry_heading_deg;
+          if (world.target_colour != msg::Colour::kUnknown) {
+            task.target_colour = world.target_colour;
+          }
+          if (world.target_shape != msg::Shape::kUnknown) task.target_shape = world.target_shape;
+        }
+        break;
+      case config::TaskType::kCourse1:
+      case config::TaskType::kCourse2:
+        if (course_wp < world.waypoints.size()) {
+          task.waypoints = {geo(world.waypoints[course_wp++].position)};
+        }
+        break;
+    }
+  }
+  return m;
+}
+
+bool mission_passed(const scoring::ScoreResult& score) {
+  if (!score.completed || score.timed_out) return false;
+  if (score.rules == scoring::Rules::k2026) return score.circled;
+  return true;
+}
+
+MissionRunResult run_mission(const world::Course& course, const config::Configuration& config,
+                             const MissionRunOptions& options) {
+  MissionPilot pilot(config);
+  RealisticSensorOptions so;
+  so.camera = options.camera;
+  so.camera_wanted = [&pilot] { return pilot.camera_wanted(); };
+  so.target_colour = options.target_colour != msg::Colour::kUnknown ? options.target_colour
+                                                                    : course.world.target_colour;
+  so.target_shape = options.target_shape != msg::Shape::kUnknown ? options.target_shape
+                                                                 : course.world.target_shape;
+  RealisticSensorSuite suite(
+      course.world, config,
+      fitted_sensor_config(options.sensors, course.world, config, options.seed), so);
+  RunnerOptions ro;
+  ro.seed = options.seed;
+  ro.tick_rate_hz = config.mission.tick_rate_hz;
+  ro.max_time_s = options.max_time_s;
+  ro.failsafe_ms = static_cast<std::uint16_t>(config.devices.arduino.failsafe_ms);
+  LockstepRunner runner(course, config.boat, ro, &suite, &pilot);
+
+  MissionRunResult r;
+  r.hold_delay_s.assign(options.outages.size(), -1.0);
+  r.resumed.assign(options.outages.size(), false);
+  while (runner.step()) {
+    const double t = core::ns_to_sec(runner.now_ns());
+    bool gnss_off = false;
+    bool lidar_off = false;
+    for (std::size_t i = 0; i < options.outages.size(); ++i) {
+      const SensorOutage& o = options.outages[i];
+      const bool in = t >= o.from_s && t < o.to_s;
+      gnss_off = gnss_off || (in && o.gnss);
+      lidar_off = lidar_off || (in && o.lidar);
+      if (in && r.hold_delay_s[i] < 0.0 && pilot.status().holding) {
+        r.hold_delay_s[i] = t - o.from_s;
+      }
+      if (t >= o.to_s && r.hold_delay_s[i] >= 0.0 && !r.resumed[i] && !pilot.status().holding) {
+        r.resumed[i] = true;
+      }
+    }
+    suite.set_gnss_publishing(!gnss_off);
+    suite.set_lidar_publishing(!lidar_off);
+  }
+  r.outcome = runner.run();  // already over: collects the outcome
+  r.status = pilot.status();
+  r.transitions = pilot.transitions();
+  if (options.record_path) r.path = runner.path();
+  r.camera_frames = suite.frames_processed();
+  r.passed = mission_passed(r.outcome.score);
+  return r;
+}
+
+nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed) {
+  nlohmann::json j = scoring::to_json(result.outcome.score);
+  const auto& s = result.status;
+  j["passed"] = result.passed;
+  j["seed"] = seed;
+  std::ostringstream hash;
+  hash << std::hex << result.outcome.trajectory_hash;
+  j["trajectory_hash"] = hash.str();
+  j["sim_time_s"] = core::ns_to_sec(result.outcome.end_ns);
+  j["camera_frames"] = result.camera_frames;
+  j["mission"] = {{"state", std::string(s.state_path.view())},
+                  {"started", s.started},
+                  {"finished", s.finished},
+                  {"holding", s.holding},
+                  {"hold_reason", std::string(mission::hold_reason_name(s.hold_reason))},
+                  {"task_index", s.task_index},
+                  {"task_count", s.task_count},
+                  {"mission_elapsed_s", s.mission_elapsed_s},
+                  {"waypoints_arrived", s.waypoints_arrived},
+                  {"waypoints_missed", s.waypoints_missed},
+                  {"tasks_timed_out", s.tasks_timed_out},
+                  {"hold_count", s.hold_count},
+                  {"gps_offset_m", {s.gps_offset_north_m, s.gps_offset_east_m}},
+                  {"identified_colour", static_cast<int>(s.identified_colour)},
+                  {"docking_slip", s.docking_slip},
+                  {"waiting_for", std::string(s.waiting_for.view())}};
+  nlohmann::json tr = nlohmann::json::array();
+  for (const auto& t : result.transitions) {
+    tr.push_back({{"t_s", t.t_s}, {"from", t.from}, {"to", t.to}, {"reason", t.reason}});
+  }
+  j["transitions"] = tr;
+  return j;
+}
+
+}  // namespace coxswain::sim::runner
