@@ -75,6 +75,24 @@ void print_summary_line(const std::string& label, const runner::MissionRunResult
             << ", hash " << std::hex << r.outcome.trajectory_hash << std::dec << "\n";
 }
 
+/// The batch's default disturbances, drawn per seed: a 0.2 m/s current (unless the course has
+/// one), a GNSS bias of up to 5 m in any direction, the site's declination, sensor noise (the
+/// sensor defaults).
+void apply_default_disturbances(world::Course& course, sensors::SensorConfig& sensors,
+                                std::uint64_t seed) {
+  // Golden-ratio sequence: directions spread evenly over seeds, reproducibly.
+  const double u = std::fmod(static_cast<double>(seed) * 0.6180339887498949, 1.0);
+  const double v = std::fmod(static_cast<double>(seed) * 0.7548776662466927, 1.0);
+  if (course.environment.current_speed_mps == 0.0) {
+    course.environment.current_speed_mps = 0.2;
+    course.environment.current_toward_deg = 360.0 * u;
+  }
+  sensors.gnss.bias_direction_deg = 360.0 * v;
+  sensors.gnss.bias_mean_m = 2.0 + 2.0 * u;  // 2..4 m, plus the wander
+  sensors.gnss.bias_max_m = 5.0;
+  if (course.world.declination_deg == 0.0) course.world.declination_deg = -8.5;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -174,6 +192,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static bool batch_no_camera = false;
   static std::string missions_dir = "config/missions";
   static std::string strategy;
+  static bool no_disturbances = false;
+  static std::string batch_mission;
   batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
       ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
   batch->add_option("--runs", runs, "number of generated courses");
@@ -182,7 +202,10 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   batch->add_flag("--baseline", batch_baseline, "the documents' own algorithms");
   batch->add_flag("--no-camera", batch_no_camera, "no camera frames");
   batch->add_option("--missions", missions_dir, "folder of the shipped mission files");
+  batch->add_option("--mission", batch_mission, "mission file (default: the kind's shipped one)");
   batch->add_option("--strategy", strategy, "avoidance strategy override");
+  batch->add_flag("--no-disturbances", no_disturbances,
+                  "no default current, GNSS bias or declination (sensor noise stays)");
   batch->add_option("--sensors", files.sensors, "simulated sensor file");
   batch->add_option("--boat", files.boat, "boat file");
   batch->add_option("--devices", files.devices, "devices file");
@@ -203,7 +226,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
     config::Configuration base;
     sensors::SensorConfig sensor_config;
     load_common(files, base, sensor_config, errors);
-    base.mission = config::load_mission_config(missions_dir + "/" + mission_name, errors);
+    base.mission = config::load_mission_config(
+        batch_mission.empty() ? missions_dir + "/" + mission_name : batch_mission, errors);
     if (!errors.empty()) {
       std::cerr << errors.format();
       exit_code = 2;
@@ -232,12 +256,13 @@ void add_run_commands(CLI::App& app, int& exit_code) {
         const std::uint64_t s = seed0 + static_cast<std::uint64_t>(i);
         nlohmann::json j;
         try {
-          const world::Course course = world::generate_course(kind, s);
+          world::Course course = world::generate_course(kind, s);
+          runner::MissionRunOptions options;
+          options.sensors = sensor_config;
+          if (!no_disturbances) apply_default_disturbances(course, options.sensors, s);
           config::Configuration config = base;
           config.mission = runner::fit_mission_to_course(base.mission, course.world);
-          runner::MissionRunOptions options;
           options.seed = s;
-          options.sensors = sensor_config;
           options.camera = !batch_no_camera;
           options.record_path = false;
           const runner::MissionRunResult r = runner::run_mission(course, config, options);
