@@ -117,6 +117,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static bool no_camera = false;
   static bool baseline = false;
   static double max_time_s = 900.0;
+  static bool run_disturbances = false;
   run->add_option("--course", course_file, "course file")->required()->check(CLI::ExistingFile);
   run->add_option("--mission", mission_file, "mission file")->required()->check(CLI::ExistingFile);
   run->add_option("--seed", seed, "disturbance and sensor-noise seed");
@@ -129,12 +130,15 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   run->add_flag("--no-camera", no_camera, "no camera frames");
   run->add_flag("--baseline", baseline, "the documents' own algorithms (2022 naive, bearing)");
   run->add_option("--max-time", max_time_s, "hard stop, simulated seconds");
+  run->add_flag("--disturbances", run_disturbances,
+                "the batch's default disturbances for this seed (reproduces a batch run)");
   run->callback([&exit_code] {
     config::ConfigErrors errors;
-    const world::Course course = world::load_course_file(course_file, errors);
+    world::Course course = world::load_course_file(course_file, errors);
     config::Configuration config;
     runner::MissionRunOptions options;
     load_common(files, config, options.sensors, errors);
+    if (run_disturbances) apply_default_disturbances(course, options.sensors, seed);
     config.mission = config::load_mission_config(mission_file, errors);
     if (!errors.empty()) {
       std::cerr << errors.format();
