@@ -69,7 +69,7 @@ function legend(id, series) {
 function linePlot(id, xs, series, ylabel, yrange) {
   const svg = document.getElementById(id);
   const W = +svg.getAttribute('width'), H = +svg.getAttribute('height');
-  const L = 60, R = 10, T = 10, B = 30;
+  const L = 60, R = 10, T = 20, B = 30;
   const [x0, x1] = extent([xs]);
   const [y0, y1] = yrange || extent(series.map(s => s.ys));
   const X = x => L + (x - x0) / (x1 - x0) * (W - L - R);
@@ -90,6 +90,7 @@ function linePlot(id, xs, series, ylabel, yrange) {
     for (let i = 0; i < xs.length; i++) {
       const y = s.ys[i];
       if (!fin(y)) { pen = false; continue; }
+      if (s.wrap && pen && Math.abs(y - prev) > 180) pen = false;  // heading crossing +-180
       if (s.step && pen && prev !== null) d += 'L' + X(xs[i]).toFixed(1) + ' ' + Y(prev).toFixed(1);
       d += (pen ? 'L' : 'M') + X(xs[i]).toFixed(1) + ' ' + Y(y).toFixed(1);
       pen = true; prev = y; points++;
@@ -172,6 +173,7 @@ function drawHealth() {
   const series = D.rates.map((h, i) => ({name: h.device + ' (Hz)', ys: h.rate_hz, color: ['#c33', '#39c', '#3a3', '#a6c', '#c90'][i % 5]}));
   linePlot('health', D.t, series, 'new samples per second seen by the core (Hz)');
   const tb = document.getElementById('health-table');
+  if (D.health.length === 0) tb.insertRow().insertCell().textContent = 'no device health in the recording';
   for (const h of D.health) {
     const row = tb.insertRow();
     [h.device, h.states.join(', '), h.final_state, h.frames_ok, h.checksum_errors, h.framing_errors, h.reopen_count]
@@ -180,8 +182,8 @@ function drawHealth() {
 }
 try {
   drawTrack();
-  linePlot('heading', D.t, [{name: 'heading', ys: D.heading, color: '#c33'},
-                            {name: 'desired heading', ys: D.desired, color: '#36c'}], 'deg (0 north, clockwise)');
+  linePlot('heading', D.t, [{name: 'heading', ys: D.heading, color: '#c33', wrap: true},
+                            {name: 'desired heading', ys: D.desired, color: '#36c', wrap: true}], 'deg (0 north, clockwise)');
   linePlot('pulses', D.t, [{name: 'servo/port (us)', ys: D.pulse0, color: '#a6c', step: true},
                            {name: 'thrust/starboard (us)', ys: D.pulse1, color: '#c60', step: true}], 'pulse (us)');
   linePlot('speed', D.t, [{name: 'GNSS ground speed (m/s)', ys: D.speed, color: '#093'}], 'm/s');

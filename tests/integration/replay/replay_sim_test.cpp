@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -53,6 +54,7 @@ class ReplaySim : public ::testing::Test {
     result_ = test::record_sim_run(mcap_, config, "kaboat2022_hopping.yaml", 40.0);
   }
   static void TearDownTestSuite() {
+    if (std::getenv("COXSWAIN_KEEP_TEST_OUTPUT") != nullptr) return;  // to look at the report
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
