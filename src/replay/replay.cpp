@@ -8,8 +8,12 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <span>
 #include <sstream>
 #include <stdexcept>
+
+#include "coxswain/app/core_host.hpp"
+#include "coxswain/record/foxglove.hpp"
 
 namespace coxswain::replay {
 namespace {
@@ -55,6 +59,24 @@ bool write_section(const YAML::Node& root, const char* key, const fs::path& path
   return static_cast<bool>(f);
 }
 
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const std::uint8_t b : bytes) {
+    h ^= b;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+std::uint64_t fnv1a(std::string_view text) {
+  return fnv1a(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+std::string hex(std::uint64_t h) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "fnv1a:%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
 std::string command_field(std::size_t i) {
   static constexpr const char* kNames[] = {"command.stamp_ns", "command.pulse_us[0]",
                                            "command.pulse_us[1]", "command.led", "command.active"};
@@ -73,10 +95,18 @@ Recording load_recording(const fs::path& mcap) {
   // Channels are known once their Channel record was read, which precedes their messages.
   std::optional<std::uint16_t> tick_id;
   std::optional<std::uint16_t> lidar_id;
+  std::optional<std::uint16_t> scene_id;
+  std::optional<std::uint16_t> pose_id;
   rec.file = reader.read([&](const record::McapMessageView& m) {
     if (!tick_id) tick_id = reader.channel_id("/tick");
     if (!lidar_id) lidar_id = reader.channel_id("/lidar");
-    if (tick_id && m.channel_id == *tick_id) {
+    if (!scene_id) scene_id = reader.channel_id("/viz/scene");
+    if (!pose_id) pose_id = reader.channel_id("/tf");
+    if (scene_id && m.channel_id == *scene_id) {
+      rec.viz_scene[m.log_time_ns] = fnv1a(m.data);
+    } else if (pose_id && m.channel_id == *pose_id) {
+      rec.viz_pose[m.log_time_ns] = fnv1a(m.data);
+    } else if (tick_id && m.channel_id == *tick_id) {
       rec.ticks.emplace_back(m.data.begin(), m.data.end());
     } else if (lidar_id && m.channel_id == *lidar_id && m.data.size() >= 9) {
       record::ByteReader r(m.data);
@@ -141,6 +171,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
   auto tick = std::make_unique<record::TickRecordData>();
   auto scan = std::make_unique<msg::LidarScan>();
   auto out = std::make_unique<mission::CoreOutput>();
+  auto viz = std::make_unique<record::TickViz>();
   std::uint64_t scan_sequence = 0;
   bool scan_loaded = false;
   std::string recorded_path;
@@ -196,6 +227,28 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     const std::string_view recorded_cut = tick->state_path;
     if (path.substr(0, record::kMaxStatePathBytes) != recorded_cut) {
       note("state_path", std::string(recorded_cut), std::string(path));
+    }
+    // The visualization, as the recorder's writer thread turned the tick's TickViz into JSON.
+    const auto stamp = static_cast<std::uint64_t>(tick->now_ns < 0 ? 0 : tick->now_ns);
+    const auto scene = recording.viz_scene.find(stamp);
+    if (scene != recording.viz_scene.end()) {
+      ++report.viz_compared;
+      app::fill_tick_viz(*out, config.boat, *viz);
+      const std::uint64_t replayed_scene = fnv1a(record::foxglove::scene_update_json(
+          tick->now_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
+      if (replayed_scene != scene->second) {
+        note("viz.scene", hex(scene->second), hex(replayed_scene));
+      }
+      const auto pose = recording.viz_pose.find(stamp);
+      const bool recorded_pose = pose != recording.viz_pose.end();
+      if (recorded_pose != viz->pose_valid) {
+        note("viz.pose", recorded_pose ? "present" : "absent",
+             viz->pose_valid ? "present" : "absent");
+      } else if (recorded_pose) {
+        const std::uint64_t replayed_pose =
+            fnv1a(record::foxglove::frame_transform_json(tick->now_ns, *viz));
+        if (replayed_pose != pose->second) note("viz.pose", hex(pose->second), hex(replayed_pose));
+      }
     }
     if (tick_differs) {
       if (!report.first_divergence_tick) {

@@ -5,8 +5,10 @@
 // the core saw (the lidar points travel in /lidar under the scan's store sequence) and what the
 // core decided (command, state path); replay rebuilds each Snapshot, steps a fresh MissionCore
 // built from the recorded effective configuration (or a changed one), and reports every field
-// that differs bit for bit, with the tick index and time. Pure apart from reading the file.
-// Thread-safety: none; one owner.
+// that differs bit for bit, with the tick index and time. The visualization the tick recorded
+// (/viz/scene, /tf: pose, target, danger sector, obstacles) is rebuilt the way the daemon builds
+// it (app::fill_tick_viz, record::foxglove) and compared byte for byte. Pure apart from reading the
+// file. Thread-safety: none; one owner.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -31,6 +33,9 @@ struct Recording {
   std::string config_yaml;  // Metadata "config"/"yaml", empty when absent
   std::vector<std::vector<std::uint8_t>> ticks;
   std::map<std::uint64_t, std::vector<std::uint8_t>> lidar;
+  /// FNV-1a hashes of the recorded visualization (/viz/scene, /tf) by log time (= tick time).
+  std::map<std::uint64_t, std::uint64_t> viz_scene;
+  std::map<std::uint64_t, std::uint64_t> viz_pose;
 };
 [[nodiscard]] Recording load_recording(const std::filesystem::path& mcap);
 
@@ -43,7 +48,7 @@ struct Recording {
 struct Difference {
   std::uint64_t tick_index = 0;
   core::TimeNs now_ns = 0;
-  std::string field;  // e.g. "command.pulse_us[1]", "state_path"
+  std::string field;  // e.g. "command.pulse_us[1]", "state_path", "viz.scene", "viz.pose"
   std::string recorded;
   std::string replayed;
 };
@@ -67,6 +72,7 @@ struct ReplayReport {
   std::uint64_t fields_different = 0;     // all differing fields
   std::uint64_t lidar_scans_missing = 0;  // ticks whose scan is not in /lidar (dropped)
   std::uint64_t ticks_undecodable = 0;    // /tick messages of an unknown layout
+  std::uint64_t viz_compared = 0;         // ticks whose recorded /viz/scene was compared
   std::vector<Difference> differences;    // the first max_diffs
   std::optional<std::uint64_t> first_divergence_tick;
   core::TimeNs first_divergence_ns = 0;

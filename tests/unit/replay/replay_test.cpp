@@ -60,6 +60,7 @@ TEST_F(ReplayTest, RecordedRunReplaysIdentically) {
   EXPECT_GE(r.ticks, 590U);
   EXPECT_TRUE(r.identical()) << format_replay_report(r, true);
   EXPECT_EQ(r.lidar_scans_missing, 0U);
+  EXPECT_EQ(r.viz_compared, r.ticks);  // every tick's /viz/scene was rebuilt and matched
   EXPECT_FALSE(r.first_divergence_tick);
   EXPECT_EQ(r.recorded_paths.size(), r.replayed_paths.size());
   EXPECT_NE(format_replay_report(r, false).find("identical"), std::string::npos);
@@ -85,6 +86,17 @@ TEST_F(ReplayTest, TamperedFieldsAreReportedWithTickAndField) {
   const std::string text = format_replay_report(r, true);
   EXPECT_NE(text.find("tick 400"), std::string::npos) << text;
   EXPECT_NE(text.find("3 of"), std::string::npos) << text;
+}
+
+TEST_F(ReplayTest, AlteredVisualizationIsReported) {
+  Recording rec = *recording_;
+  ASSERT_GT(rec.viz_scene.size(), 200U);
+  auto it = std::next(rec.viz_scene.begin(), 200);
+  it->second ^= 1U;
+  const ReplayReport r = replay(rec, *config_);
+  ASSERT_EQ(r.differences.size(), 1U) << format_replay_report(r, true);
+  EXPECT_EQ(r.differences[0].field, "viz.scene");
+  EXPECT_EQ(static_cast<std::uint64_t>(r.differences[0].now_ns), it->first);
 }
 
 TEST_F(ReplayTest, MaxDiffsLimitsTheListNotTheCount) {
