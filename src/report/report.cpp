@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "coxswain/core/angles.hpp"
 #include "coxswain/msg/device_health.hpp"
 
 namespace coxswain::report {
@@ -269,7 +270,7 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
     const double ts = static_cast<double>(tick.now_ns - t0) / 1e9;
     const double dt_ms =
         prev_ns == core::kNeverNs ? kNaN : static_cast<double>(tick.now_ns - prev_ns) / 1e6;
-    if (dt_ms == dt_ms) max_dt_ms = std::max(max_dt_ms, dt_ms);  // keep the worst between samples
+    if (!std::isnan(dt_ms)) max_dt_ms = std::max(max_dt_ms, dt_ms);  // worst between samples
     prev_ns = tick.now_ns;
     for (std::uint32_t i = 0; i < out.transitions.count && i < mission::TransitionLog::kCapacity;
          ++i) {
@@ -313,7 +314,7 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
         (next_segments_ns == core::kNeverNs || tick.now_ns >= next_segments_ns) &&
         segments.size() < kMaxSegments) {
       next_segments_ns = tick.now_ns + core::kNsPerSec;
-      const double h = v.pose.heading_deg * M_PI / 180.0;
+      const double h = core::deg_to_rad(v.pose.heading_deg);
       const double c = std::cos(h);
       const double s = std::sin(h);
       auto to_nav = [&](const core::BodyPoint& p) {
