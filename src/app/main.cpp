@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // coxswain: the autonomy daemon. `coxswain run` sails; `coxswain check-config FILE...` validates;
-// `coxswain decode --device D FILE` prints a raw device capture as JSON lines.
+// `coxswain decode --device D FILE` prints a raw device capture as JSON lines; `coxswain replay
+// RUN.mcap` re-runs the core on a recording; `coxswain report RUN.mcap` writes its HTML report.
 // Exit status: 0 success, 1 runtime failure, 2 configuration error.
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -17,6 +18,8 @@
 #include "coxswain/app/logging.hpp"
 #include "coxswain/app/run_dir.hpp"
 #include "coxswain/config/config.hpp"
+#include "coxswain/replay/command.hpp"
+#include "coxswain/report/report.hpp"
 #include "coxswain/version.hpp"
 
 namespace {
@@ -145,6 +148,22 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check-config", "Validate config files without running");
   std::vector<std::string> check_files;
   check->add_option("files", check_files, "YAML files to validate")->required();
+  auto* replay = app.add_subcommand(
+      "replay",
+      "Re-run the mission core on a recording and compare every decision (exit 0 "
+      "identical, 1 different, 2 unreadable); --config-dir/--mission/--boat/--devices "
+      "replay with changed parameters");
+  coxswain::replay::ReplayCommand replay_command;
+  std::string replay_file;
+  replay->add_option("file", replay_file, "The recording (RUN/run.mcap)")->required();
+  replay->add_option("--max-diffs", replay_command.max_diffs, "Differences to list")
+      ->capture_default_str();
+  replay->add_flag("--decode", replay_command.decode, "Re-run the device codecs on the raw bytes");
+  auto* report = app.add_subcommand("report", "Write the postmortem report (one HTML file)");
+  std::string report_file;
+  std::string report_out;
+  report->add_option("file", report_file, "The recording (RUN/run.mcap)")->required();
+  report->add_option("-o,--output", report_out, "The HTML file (default: the recording's, .html)");
   app.require_subcommand(0, 1);
 
   CLI11_PARSE(app, argc, argv);
@@ -183,6 +202,18 @@ int main(int argc, char** argv) {
   if (print_config) {
     std::cout << coxswain::config::to_yaml(config);
     return 0;
+  }
+  const bool config_given = app.count("--config-dir") + app.count("--boat") +
+                                app.count("--devices") + app.count("--mission") >
+                            0;
+  if (replay->parsed()) {
+    replay_command.recording = replay_file;
+    replay_command.config_override = config_given ? &config : nullptr;
+    return coxswain::replay::run_replay_command(replay_command, std::cout, std::cerr);
+  }
+  if (report->parsed()) {
+    return coxswain::report::run_report_command(
+        report_file, report_out, config_given ? &config : nullptr, std::cout, std::cerr);
   }
   if (!run->parsed()) {
     std::cout << app.help();

@@ -306,6 +306,11 @@ bool Recorder::start() {
                                 {"utc_ns_at_start", std::to_string(utc_ns)},
                                 {"stamps", "log_time = steady-clock nanoseconds of the run"}});
   w.write_metadata("config", {{"yaml", options_.config_yaml}});
+  for (const auto& [name, values] : options_.extra_metadata) {
+    McapMetadataMap map;
+    for (const auto& [key, value] : values) map.emplace(key, value);
+    w.write_metadata(name, map);
+  }
   if (!w.close_chunk() || w.failed()) {
     note_failure();
     w.close();

@@ -29,6 +29,8 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
@@ -84,6 +86,9 @@ struct RecorderOptions {
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
   std::string config_yaml;          // effective configuration (Metadata "config")
   std::string build_version;        // Metadata "build"
+  /// Further Metadata records (name -> key/value), e.g. the simulator's "course".
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>>
+      extra_metadata;
 };
 
 struct RecorderChannelStats {

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/runner/mission_pilot.hpp"
 
+#include "sim/runner/recording.hpp"
+
 namespace coxswain::sim::runner {
 
 MissionPilot::MissionPilot(const config::Configuration& config)
@@ -11,6 +13,7 @@ MissionPilot::MissionPilot(const config::Configuration& config)
 void MissionPilot::step(const core::Snapshot& snapshot, core::TimeNs now_ns,
                         msg::ActuatorCommand& out) {
   core_->step(snapshot, now_ns, *out_);
+  if (recorder_ != nullptr) recorder_->record_tick(snapshot, now_ns, *out_);
   out = out_->command;
   const auto& log = out_->transitions;
   for (std::uint32_t i = 0; i < log.count && i < mission::TransitionLog::kCapacity; ++i) {

@@ -14,6 +14,8 @@
 
 namespace coxswain::sim::runner {
 
+class RunRecorder;  // sim/runner/recording.hpp
+
 /// One logged state transition, as text.
 struct TransitionRecord {
   double t_s = 0.0;
@@ -29,6 +31,8 @@ class MissionPilot final : public Pilot {
   void step(const core::Snapshot& snapshot, core::TimeNs now_ns,
             msg::ActuatorCommand& out) override;
 
+  /// Records every tick into `recorder` (null = no recording); it must outlive the run.
+  void set_recorder(RunRecorder* recorder) { recorder_ = recorder; }
   [[nodiscard]] const mission::CoreOutput& output() const { return *out_; }
   [[nodiscard]] const mission::MissionStatus& status() const { return out_->status; }
   [[nodiscard]] const std::vector<TransitionRecord>& transitions() const { return transitions_; }
@@ -44,6 +48,7 @@ class MissionPilot final : public Pilot {
   std::vector<TransitionRecord> transitions_;
   std::vector<core::TimeNs> hold_entries_;
   bool was_holding_ = false;
+  RunRecorder* recorder_ = nullptr;
 };
 
 }  // namespace coxswain::sim::runner

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// `coxswain replay RUN.mcap`: re-runs the mission core on a flight recording's inputs in virtual
+// time and compares each decision with the recorded one. Every /tick message holds the Snapshot
+// the core saw (the lidar points travel in /lidar under the scan's store sequence) and what the
+// core decided (command, state path); replay rebuilds each Snapshot, steps a fresh MissionCore
+// built from the recorded effective configuration (or a changed one), and reports every field
+// that differs bit for bit, with the tick index and time. The visualization the tick recorded
+// (/viz/scene, /tf: pose, target, danger sector, obstacles) is rebuilt the way the daemon builds
+// it (app::fill_tick_viz, record::foxglove) and compared byte for byte. Pure apart from reading the
+// file. Thread-safety: none; one owner.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "coxswain/config/config.hpp"
+#include "coxswain/mission/mission_core.hpp"
+#include "coxswain/record/layouts.hpp"
+#include "coxswain/record/mcap_reader.hpp"
+
+namespace coxswain::replay {
+
+/// A recording loaded for replay: the encoded ticks in file order and the lidar scans by store
+/// sequence (decoded on demand, so a long run does not hold thousands of 64 KiB scans).
+struct Recording {
+  bool ok = false;  // the file was read (possibly truncated) and holds a /tick channel
+  std::string error;
+  record::McapReadReport file;
+  std::string config_yaml;  // Metadata "config"/"yaml", empty when absent
+  std::vector<std::vector<std::uint8_t>> ticks;
+  std::map<std::uint64_t, std::vector<std::uint8_t>> lidar;
+  /// FNV-1a hashes of the recorded visualization (/viz/scene, /tf) by log time (= tick time).
+  std::map<std::uint64_t, std::uint64_t> viz_scene;
+  std::map<std::uint64_t, std::uint64_t> viz_pose;
+};
+[[nodiscard]] Recording load_recording(const std::filesystem::path& mcap);
+
+/// The Configuration of a recording's effective-configuration YAML (config::to_yaml), read back
+/// through the ordinary file loaders so every check applies. nullopt with `errors` on failure.
+[[nodiscard]] std::optional<config::Configuration> configuration_from_yaml(
+    const std::string& yaml, config::ConfigErrors& errors);
+
+/// One recorded field that the replayed core did not reproduce.
+struct Difference {
+  std::uint64_t tick_index = 0;
+  core::TimeNs now_ns = 0;
+  std::string field;  // e.g. "command.pulse_us[1]", "state_path", "viz.scene", "viz.pose"
+  std::string recorded;
+  std::string replayed;
+};
+
+/// A state path and the tick it was entered at.
+struct PathChange {
+  std::uint64_t tick_index = 0;
+  core::TimeNs now_ns = 0;
+  std::string path;
+};
+
+struct ReplayOptions {
+  std::size_t max_diffs = 20;  // differences kept in the report (all are counted)
+};
+
+struct ReplayReport {
+  bool ok = false;  // the recording could be replayed (a readable file with ticks and a config)
+  std::string error;
+  std::uint64_t ticks = 0;
+  std::uint64_t ticks_different = 0;      // ticks with at least one differing field
+  std::uint64_t fields_different = 0;     // all differing fields
+  std::uint64_t lidar_scans_missing = 0;  // ticks whose scan is not in /lidar (dropped)
+  std::uint64_t ticks_undecodable = 0;    // /tick messages of an unknown layout
+  std::uint64_t viz_compared = 0;         // ticks whose recorded /viz/scene was compared
+  std::vector<Difference> differences;    // the first max_diffs
+  std::optional<std::uint64_t> first_divergence_tick;
+  core::TimeNs first_divergence_ns = 0;
+  std::vector<PathChange> recorded_paths;  // state path timeline as recorded
+  std::vector<PathChange> replayed_paths;  // ... and as replayed
+  [[nodiscard]] bool identical() const { return ok && fields_different == 0; }
+};
+
+/// Called for every replayed tick with the recorded tick (its snapshot complete, lidar points
+/// included) and the replayed output; used by the postmortem report.
+using TickCallback =
+    std::function<void(const record::TickRecordData& tick, const mission::CoreOutput& out)>;
+
+/// Replays `recording` through a MissionCore built from `config`. Never throws for a bad
+/// recording (report.ok = false with report.error); an invalid `config` throws
+/// std::invalid_argument like MissionCore.
+[[nodiscard]] ReplayReport replay(const Recording& recording, const config::Configuration& config,
+                                  const ReplayOptions& options = {},
+                                  const TickCallback& on_tick = {});
+
+/// Human-readable report. `summary` adds the divergence summary (for a changed configuration).
+[[nodiscard]] std::string format_replay_report(const ReplayReport& report, bool summary);
+
+}  // namespace coxswain::replay

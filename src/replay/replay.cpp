@@ -1,0 +1,331 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/replay/replay.hpp"
+
+#include <unistd.h>
+#include <yaml-cpp/yaml.h>
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <stdexcept>
+
+#include "coxswain/app/core_host.hpp"
+#include "coxswain/record/foxglove.hpp"
+
+namespace coxswain::replay {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The loaders read files; each section goes through a private temporary file, removed after.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& stem) {
+    static std::atomic<unsigned> counter{0};
+    path_ =
+        fs::temp_directory_path() / ("coxswain-replay-" + std::to_string(::getpid()) + "-" +
+                                     std::to_string(counter.fetch_add(1)) + "-" + stem + ".yaml");
+  }
+  ~TempFile() {
+    std::error_code ec;
+    fs::remove(path_, ec);
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+bool write_section(const YAML::Node& root, const char* key, const fs::path& path,
+                   config::ConfigErrors& errors) {
+  const YAML::Node section = root[key];
+  if (!section || !section.IsMap()) {
+    errors.add({"<recorded config>", 0, key, "missing from the recorded configuration"});
+    return false;
+  }
+  YAML::Node copy = YAML::Clone(section);
+  copy.remove("file");  // where the daemon loaded it from: not a key of the file itself
+  copy["kind"] = key;
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << copy;
+  std::ofstream f(path);
+  f << out.c_str() << "\n";
+  return static_cast<bool>(f);
+}
+
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (const std::uint8_t b : bytes) {
+    h ^= b;
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+std::uint64_t fnv1a(std::string_view text) {
+  return fnv1a(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+}
+
+std::string hex(std::uint64_t h) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "fnv1a:%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+std::string command_field(std::size_t i) {
+  static constexpr const char* kNames[] = {"command.stamp_ns", "command.pulse_us[0]",
+                                           "command.pulse_us[1]", "command.led", "command.active"};
+  return kNames[i];
+}
+
+}  // namespace
+
+Recording load_recording(const fs::path& mcap) {
+  Recording rec;
+  record::McapReader reader;
+  if (!reader.open(mcap)) {
+    rec.error = "cannot read " + mcap.string();
+    return rec;
+  }
+  // Channels are known once their Channel record was read, which precedes their messages.
+  std::optional<std::uint16_t> tick_id;
+  std::optional<std::uint16_t> lidar_id;
+  std::optional<std::uint16_t> scene_id;
+  std::optional<std::uint16_t> pose_id;
+  rec.file = reader.read([&](const record::McapMessageView& m) {
+    if (!tick_id) tick_id = reader.channel_id("/tick");
+    if (!lidar_id) lidar_id = reader.channel_id("/lidar");
+    if (!scene_id) scene_id = reader.channel_id("/viz/scene");
+    if (!pose_id) pose_id = reader.channel_id("/tf");
+    if (scene_id && m.channel_id == *scene_id) {
+      rec.viz_scene[m.log_time_ns] = fnv1a(m.data);
+    } else if (pose_id && m.channel_id == *pose_id) {
+      rec.viz_pose[m.log_time_ns] = fnv1a(m.data);
+    } else if (tick_id && m.channel_id == *tick_id) {
+      rec.ticks.emplace_back(m.data.begin(), m.data.end());
+    } else if (lidar_id && m.channel_id == *lidar_id && m.data.size() >= 9) {
+      record::ByteReader r(m.data);
+      (void)r.u8();
+      const std::uint64_t sequence = r.u64();
+      rec.lidar[sequence].assign(m.data.begin(), m.data.end());
+    }
+  });
+  if (!rec.file.header_ok) {
+    rec.error = "not an MCAP file: " + mcap.string();
+    return rec;
+  }
+  if (const auto it = rec.file.metadata.find("config"); it != rec.file.metadata.end()) {
+    if (const auto y = it->second.find("yaml"); y != it->second.end()) rec.config_yaml = y->second;
+  }
+  if (!reader.channel_id("/tick")) {
+    rec.error = "the recording has no /tick channel";
+    return rec;
+  }
+  rec.ok = true;
+  return rec;
+}
+
+std::optional<config::Configuration> configuration_from_yaml(const std::string& yaml,
+                                                             config::ConfigErrors& errors) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::Exception& e) {
+    errors.add({"<recorded config>", 0, "", std::string("not YAML: ") + e.what()});
+    return std::nullopt;
+  }
+  if (!root.IsMap()) {
+    errors.add({"<recorded config>", 0, "", "not a map"});
+    return std::nullopt;
+  }
+  TempFile boat("boat");
+  TempFile devices("devices");
+  TempFile mission("mission");
+  if (!write_section(root, "boat", boat.path(), errors) ||
+      !write_section(root, "devices", devices.path(), errors) ||
+      !write_section(root, "mission", mission.path(), errors)) {
+    return std::nullopt;
+  }
+  config::Configuration c{config::load_boat_config(boat.path().string(), errors),
+                          config::load_devices_config(devices.path().string(), errors),
+                          config::load_mission_config(mission.path().string(), errors)};
+  if (!errors.empty()) return std::nullopt;
+  return c;
+}
+
+ReplayReport replay(const Recording& recording, const config::Configuration& config,
+                    const ReplayOptions& options, const TickCallback& on_tick) {
+  ReplayReport report;
+  if (!recording.ok) {
+    report.error = recording.error.empty() ? "recording not loaded" : recording.error;
+    return report;
+  }
+  report.ok = true;
+  mission::MissionCore core(config);
+  // Large (scan arrays): allocated once, reused for every tick.
+  auto tick = std::make_unique<record::TickRecordData>();
+  auto scan = std::make_unique<msg::LidarScan>();
+  auto out = std::make_unique<mission::CoreOutput>();
+  auto viz = std::make_unique<record::TickViz>();
+  std::uint64_t scan_sequence = 0;
+  bool scan_loaded = false;
+  std::string recorded_path;
+  std::string replayed_path;
+
+  for (const auto& bytes : recording.ticks) {
+    if (!record::decode_tick(bytes, *tick)) {
+      ++report.ticks_undecodable;
+      continue;
+    }
+    // The scan the core saw: the /lidar message of the tick's sequence (header from the tick).
+    const std::uint64_t seq = tick->snapshot.lidar.sequence;
+    if (seq != 0 && seq != scan_sequence) {
+      scan_sequence = seq;
+      scan_loaded = false;
+      if (const auto it = recording.lidar.find(seq); it != recording.lidar.end()) {
+        std::uint64_t s = 0;
+        scan_loaded = record::decode_sample(it->second, s, *scan);
+      }
+    }
+    if (seq != 0) {
+      if (scan_loaded) {
+        tick->snapshot.lidar.value = *scan;
+      } else {
+        ++report.lidar_scans_missing;
+      }
+    }
+    core.step(tick->snapshot, tick->now_ns, *out);
+    ++report.ticks;
+
+    const msg::ActuatorCommand& a = tick->command;
+    const msg::ActuatorCommand& b = out->command;
+    const std::int64_t recorded_fields[] = {a.stamp_ns, a.pulse_us[0], a.pulse_us[1],
+                                            static_cast<std::int64_t>(a.led), a.active ? 1 : 0};
+    const std::int64_t replayed_fields[] = {b.stamp_ns, b.pulse_us[0], b.pulse_us[1],
+                                            static_cast<std::int64_t>(b.led), b.active ? 1 : 0};
+    bool tick_differs = false;
+    auto note = [&](std::string field, std::string rec, std::string rep) {
+      tick_differs = true;
+      ++report.fields_different;
+      if (report.differences.size() < options.max_diffs) {
+        report.differences.push_back(
+            {tick->tick_index, tick->now_ns, std::move(field), std::move(rec), std::move(rep)});
+      }
+    };
+    for (std::size_t i = 0; i < std::size(recorded_fields); ++i) {
+      if (recorded_fields[i] != replayed_fields[i]) {
+        note(command_field(i), std::to_string(recorded_fields[i]),
+             std::to_string(replayed_fields[i]));
+      }
+    }
+    const std::string_view path = out->status.state_path.view();
+    const std::string_view recorded_cut = tick->state_path;
+    if (path.substr(0, record::kMaxStatePathBytes) != recorded_cut) {
+      note("state_path", std::string(recorded_cut), std::string(path));
+    }
+    // The visualization, as the recorder's writer thread turned the tick's TickViz into JSON.
+    const auto stamp = static_cast<std::uint64_t>(tick->now_ns < 0 ? 0 : tick->now_ns);
+    const auto scene = recording.viz_scene.find(stamp);
+    if (scene != recording.viz_scene.end()) {
+      ++report.viz_compared;
+      app::fill_tick_viz(*out, config.boat, *viz);
+      const std::uint64_t replayed_scene = fnv1a(record::foxglove::scene_update_json(
+          tick->now_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
+      if (replayed_scene != scene->second) {
+        note("viz.scene", hex(scene->second), hex(replayed_scene));
+      }
+      const auto pose = recording.viz_pose.find(stamp);
+      const bool recorded_pose = pose != recording.viz_pose.end();
+      if (recorded_pose != viz->pose_valid) {
+        note("viz.pose", recorded_pose ? "present" : "absent",
+             viz->pose_valid ? "present" : "absent");
+      } else if (recorded_pose) {
+        const std::uint64_t replayed_pose =
+            fnv1a(record::foxglove::frame_transform_json(tick->now_ns, *viz));
+        if (replayed_pose != pose->second) note("viz.pose", hex(pose->second), hex(replayed_pose));
+      }
+    }
+    if (tick_differs) {
+      if (!report.first_divergence_tick) {
+        report.first_divergence_tick = tick->tick_index;
+        report.first_divergence_ns = tick->now_ns;
+      }
+      ++report.ticks_different;
+    }
+    if (recorded_cut != recorded_path || report.recorded_paths.empty()) {
+      recorded_path = std::string(recorded_cut);
+      report.recorded_paths.push_back({tick->tick_index, tick->now_ns, recorded_path});
+    }
+    if (path != replayed_path || report.replayed_paths.empty()) {
+      replayed_path = std::string(path);
+      report.replayed_paths.push_back({tick->tick_index, tick->now_ns, replayed_path});
+    }
+    if (on_tick) on_tick(*tick, *out);
+  }
+  return report;
+}
+
+std::string format_replay_report(const ReplayReport& r, bool summary) {
+  std::ostringstream o;
+  if (!r.ok) {
+    o << "replay failed: " << r.error << "\n";
+    return o.str();
+  }
+  char line[256];
+  for (const Difference& d : r.differences) {
+    std::snprintf(line, sizeof line, "tick %llu t=%.3f s: %s recorded %s replayed %s\n",
+                  static_cast<unsigned long long>(d.tick_index),
+                  static_cast<double>(d.now_ns) / 1e9, d.field.c_str(), d.recorded.c_str(),
+                  d.replayed.c_str());
+    o << line;
+  }
+  if (r.fields_different > r.differences.size()) {
+    o << "... " << (r.fields_different - r.differences.size()) << " more differences\n";
+  }
+  if (summary && r.first_divergence_tick) {
+    std::snprintf(line, sizeof line,
+                  "first divergence at tick %llu (t=%.3f s); %llu of %llu ticks differ (%.1f%%)\n",
+                  static_cast<unsigned long long>(*r.first_divergence_tick),
+                  static_cast<double>(r.first_divergence_ns) / 1e9,
+                  static_cast<unsigned long long>(r.ticks_different),
+                  static_cast<unsigned long long>(r.ticks),
+                  r.ticks == 0 ? 0.0
+                               : 100.0 * static_cast<double>(r.ticks_different) /
+                                     static_cast<double>(r.ticks));
+    o << line;
+    auto timeline = [&](const char* name, const std::vector<PathChange>& paths) {
+      o << name << " state paths:\n";
+      for (const PathChange& p : paths) {
+        std::snprintf(line, sizeof line, "  tick %8llu t=%9.3f s  %s\n",
+                      static_cast<unsigned long long>(p.tick_index),
+                      static_cast<double>(p.now_ns) / 1e9, p.path.c_str());
+        o << line;
+      }
+    };
+    timeline("recorded", r.recorded_paths);
+    timeline("replayed", r.replayed_paths);
+  }
+  if (r.lidar_scans_missing > 0) {
+    o << "warning: " << r.lidar_scans_missing
+      << " ticks saw a lidar scan missing from /lidar (dropped by the recorder): their inputs "
+         "are incomplete\n";
+  }
+  if (r.ticks_undecodable > 0) {
+    o << "warning: " << r.ticks_undecodable << " /tick messages could not be decoded\n";
+  }
+  std::snprintf(
+      line, sizeof line, "%llu ticks replayed: %s\n", static_cast<unsigned long long>(r.ticks),
+      r.fields_different == 0 ? "identical"
+                              : (std::to_string(r.fields_different) + " differing fields in " +
+                                 std::to_string(r.ticks_different) + " ticks")
+                                    .c_str());
+  o << line;
+  return o.str();
+}
+
+}  // namespace coxswain::replay

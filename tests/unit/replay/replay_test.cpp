@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: Apache-2.0
+// Replay against a short recorded simulator run: identical as recorded; every tampered field is
+// reported at its tick; missing scans and undecodable ticks are counted; the recorded
+// configuration reads back to the same configuration.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "coxswain/replay/replay.hpp"
+#include "sim_recording.hpp"
+
+namespace coxswain::replay {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ReplayTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("coxswain-replay-unit-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    config_ = std::make_unique<config::Configuration>(test::shipped_config("hopping"));
+    const auto r =
+        test::record_sim_run(dir_ / "run.mcap", *config_, "kaboat2022_hopping.yaml", 12.0);
+    ASSERT_TRUE(r.ok) << r.error;
+    recording_ = std::make_unique<Recording>(load_recording(dir_ / "run.mcap"));
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+    recording_.reset();
+    config_.reset();
+  }
+  // Re-encodes tick `i` after `edit` changed it.
+  template <class Edit>
+  static void tamper(Recording& rec, std::size_t i, Edit edit) {
+    auto t = std::make_unique<record::TickRecordData>();
+    ASSERT_TRUE(record::decode_tick(rec.ticks[i], *t));
+    edit(*t);
+    std::vector<std::uint8_t> out(record::kMaxTickBytes);
+    const std::size_t n =
+        record::encode_tick(out, t->tick_index, t->now_ns, t->snapshot, t->command, t->state_path);
+    ASSERT_GT(n, 0U);
+    out.resize(n);
+    rec.ticks[i] = out;
+  }
+  static inline fs::path dir_;
+  static inline std::unique_ptr<config::Configuration> config_;
+  static inline std::unique_ptr<Recording> recording_;
+};
+
+TEST_F(ReplayTest, RecordedRunReplaysIdentically) {
+  ASSERT_TRUE(recording_->ok) << recording_->error;
+  const ReplayReport r = replay(*recording_, *config_);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.ticks, recording_->ticks.size());
+  EXPECT_GE(r.ticks, 590U);
+  EXPECT_TRUE(r.identical()) << format_replay_report(r, true);
+  EXPECT_EQ(r.lidar_scans_missing, 0U);
+  EXPECT_EQ(r.viz_compared, r.ticks);  // every tick's /viz/scene was rebuilt and matched
+  EXPECT_FALSE(r.first_divergence_tick);
+  EXPECT_EQ(r.recorded_paths.size(), r.replayed_paths.size());
+  EXPECT_NE(format_replay_report(r, false).find("identical"), std::string::npos);
+}
+
+TEST_F(ReplayTest, TamperedFieldsAreReportedWithTickAndField) {
+  Recording rec = *recording_;
+  tamper(rec, 400, [](record::TickRecordData& t) { t.command.pulse_us[1] += 1; });
+  tamper(rec, 450, [](record::TickRecordData& t) { t.state_path = "hold/elsewhere"; });
+  tamper(rec, 500, [](record::TickRecordData& t) { t.command.active = !t.command.active; });
+  const ReplayReport r = replay(rec, *config_);
+  ASSERT_TRUE(r.ok);
+  ASSERT_EQ(r.differences.size(), 3U) << format_replay_report(r, true);
+  EXPECT_EQ(r.differences[0].tick_index, 400U);
+  EXPECT_EQ(r.differences[0].field, "command.pulse_us[1]");
+  EXPECT_EQ(r.differences[1].tick_index, 450U);
+  EXPECT_EQ(r.differences[1].field, "state_path");
+  EXPECT_EQ(r.differences[1].recorded, "hold/elsewhere");
+  EXPECT_EQ(r.differences[2].field, "command.active");
+  EXPECT_EQ(r.ticks_different, 3U);
+  ASSERT_TRUE(r.first_divergence_tick);
+  EXPECT_EQ(*r.first_divergence_tick, 400U);
+  const std::string text = format_replay_report(r, true);
+  EXPECT_NE(text.find("tick 400"), std::string::npos) << text;
+  EXPECT_NE(text.find("3 of"), std::string::npos) << text;
+}
+
+TEST_F(ReplayTest, AlteredVisualizationIsReported) {
+  Recording rec = *recording_;
+  ASSERT_GT(rec.viz_scene.size(), 200U);
+  auto it = std::next(rec.viz_scene.begin(), 200);
+  it->second ^= 1U;
+  const ReplayReport r = replay(rec, *config_);
+  ASSERT_EQ(r.differences.size(), 1U) << format_replay_report(r, true);
+  EXPECT_EQ(r.differences[0].field, "viz.scene");
+  EXPECT_EQ(static_cast<std::uint64_t>(r.differences[0].now_ns), it->first);
+}
+
+TEST_F(ReplayTest, MaxDiffsLimitsTheListNotTheCount) {
+  Recording rec = *recording_;
+  for (std::size_t i = 300; i < 310; ++i) {
+    tamper(rec, i, [](record::TickRecordData& t) { t.command.led = msg::LedColour::kRed; });
+  }
+  const ReplayReport r = replay(rec, *config_, {4});
+  EXPECT_EQ(r.differences.size(), 4U);
+  EXPECT_GE(r.fields_different, 10U);
+  EXPECT_NE(format_replay_report(r, false).find("more differences"), std::string::npos);
+}
+
+TEST_F(ReplayTest, MissingScanAndBrokenTickAreCounted) {
+  Recording rec = *recording_;
+  ASSERT_FALSE(rec.lidar.empty());
+  // The scan tick 300 saw, as if the recorder had dropped it.
+  auto t = std::make_unique<record::TickRecordData>();
+  ASSERT_TRUE(record::decode_tick(rec.ticks[300], *t));
+  ASSERT_EQ(rec.lidar.erase(t->snapshot.lidar.sequence), 1U);
+  rec.ticks[10].assign({99, 1, 2});  // an unknown layout version
+  const ReplayReport r = replay(rec, *config_);
+  EXPECT_GT(r.lidar_scans_missing, 0U);
+  EXPECT_EQ(r.ticks_undecodable, 1U);
+  EXPECT_NE(format_replay_report(r, false).find("warning"), std::string::npos);
+}
+
+TEST_F(ReplayTest, RecordedConfigurationReadsBack) {
+  for (const char* mission : {"hopping", "obstacle_course", "docking", "kaboat2026"}) {
+    const config::Configuration c = test::shipped_config(mission);
+    const std::string yaml = config::to_yaml(c);
+    config::ConfigErrors errors;
+    const auto back = configuration_from_yaml(yaml, errors);
+    ASSERT_TRUE(back) << mission << ":\n" << errors.format();
+    // Everything but where the files were loaded from is the same, to the last bit.
+    config::Configuration a = c;
+    config::Configuration b = *back;
+    a.boat.file = b.boat.file = "";
+    a.devices.file = b.devices.file = "";
+    a.mission.file = b.mission.file = "";
+    EXPECT_EQ(config::to_yaml(a), config::to_yaml(b)) << mission;
+  }
+  config::ConfigErrors errors;
+  EXPECT_FALSE(configuration_from_yaml("boat: {name: x}\n", errors));
+  EXPECT_FALSE(errors.empty());
+}
+
+TEST_F(ReplayTest, UnreadableFilesAreNotRecordings) {
+  EXPECT_FALSE(load_recording(dir_ / "absent.mcap").ok);
+  const fs::path junk = dir_ / "junk.mcap";
+  std::ofstream(junk) << "junk";
+  const Recording r = load_recording(junk);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(replay(r, *config_).ok);
+}
+
+}  // namespace
+}  // namespace coxswain::replay

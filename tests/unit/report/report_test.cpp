@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: Apache-2.0
+// The postmortem report of a short recorded simulator run: one self-contained page holding
+// every plot element, the course, the transitions with their reasons and parseable data.
+// (Rendering in headless Chromium is checked in tests/integration/replay.)
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "coxswain/report/report.hpp"
+#include "sim_recording.hpp"
+
+namespace coxswain::report {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ReportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("coxswain-report-unit-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    const config::Configuration c = test::shipped_config("hopping");
+    const auto r = test::record_sim_run(dir_ / "run.mcap", c, "kaboat2022_hopping.yaml", 10.0);
+    ASSERT_TRUE(r.ok) << r.error;
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  static inline fs::path dir_;
+};
+
+nlohmann::json page_data(const std::string& html) {
+  const std::string open = "<script type=\"application/json\" id=\"report-data\">";
+  const auto a = html.find(open);
+  const auto b = html.find("</script>", a);
+  if (a == std::string::npos || b == std::string::npos) return {};
+  return nlohmann::json::parse(html.substr(a + open.size(), b - a - open.size()));
+}
+
+TEST_F(ReportTest, PageIsSelfContainedWithEveryPlot) {
+  std::ostringstream out;
+  std::ostringstream err;
+  ASSERT_EQ(run_report_command(dir_ / "run.mcap", {}, nullptr, out, err), 0) << err.str();
+  std::ifstream in(dir_ / "run.html");  // the default output name
+  ASSERT_TRUE(in.good());
+  std::stringstream page;
+  page << in.rdbuf();
+  const std::string html = page.str();
+  for (const char* id : kPlotIds) {
+    EXPECT_NE(html.find(std::string("class=\"plot\" id=\"") + id + "\""), std::string::npos) << id;
+  }
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_EQ(html.find("<link"), std::string::npos);
+  EXPECT_EQ(html.find("@import"), std::string::npos);
+  const nlohmann::json d = page_data(html);
+  ASSERT_TRUE(d.is_object());
+  EXPECT_GE(d["t"].size(), 490U);
+  EXPECT_EQ(d["t"].size(), d["heading"].size());
+  EXPECT_EQ(d["course"]["waypoints"].size(), 4U);
+  EXPECT_FALSE(d["course"]["walls"].empty());
+  ASSERT_FALSE(d["transitions"].empty());
+  EXPECT_EQ(d["transitions"][0]["from"], "wait_for_start");
+  EXPECT_FALSE(d["transitions"][0]["reason"].get<std::string>().empty());
+  EXPECT_EQ(d["rates"].size(), 5U);
+}
+
+TEST_F(ReportTest, UnreadableRecordingIsRefused) {
+  std::ostringstream out;
+  std::ostringstream err;
+  EXPECT_EQ(run_report_command(dir_ / "absent.mcap", dir_ / "x.html", nullptr, out, err), 2);
+  EXPECT_FALSE(fs::exists(dir_ / "x.html"));
+}
+
+}  // namespace
+}  // namespace coxswain::report
