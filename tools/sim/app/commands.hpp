@@ -10,4 +10,9 @@ namespace coxswain::sim::app {
 /// `course drive FILE --servo-us S --thrust-us T --seconds N [--json OUT] [--svg OUT]`.
 void add_course_commands(CLI::App& app, int& exit_code);
 
+/// `devices --course FILE [--mission FILE] [--boat FILE] [--seed N] [--run-dir DIR]
+/// [--daemon PATH] [--time-limit S] [--quiet]`: the unmodified daemon against the device
+/// emulators in real time (sim/devices_mode), scored.
+void add_devices_command(CLI::App& app, int& exit_code);
+
 }  // namespace coxswain::sim::app

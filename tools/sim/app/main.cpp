@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // coxswain-sim: check, generate and draw course files; drive the simulated boat with fixed
-// commands. The mission runs (`run`, `batch`) register here the same way once the mission core
-// is wired in.
+// commands; run the unmodified daemon against the device emulators (`devices`). The mission runs
+// (`run`, `batch`) register here the same way once the mission core is wired in.
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_code = 0;
   coxswain::sim::app::add_course_commands(app, exit_code);
+  coxswain::sim::app::add_devices_command(app, exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;
 }
