@@ -457,6 +457,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
     s.started = false;
   }
   frames.remove_all();
+  scorer.finish(out.elapsed_s);  // the daemon stopped sailing: settle the score now
   out.score = scorer.result();
   write_text(s.options.run_dir / "result.json", outcome_json(out));
   write_text(s.options.run_dir / "track.svg",
