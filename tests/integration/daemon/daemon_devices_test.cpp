@@ -52,6 +52,15 @@ class DevicesRun {
   ~DevicesRun() {
     stop_.store(true);
     thread_.join();
+    // A sanitizer build's daemon reports into its log: any report fails the test.
+    if (daemon_ != nullptr) {
+      for (const LogLine& line : daemon_->lines()) {
+        for (std::string_view bad : {"AddressSanitizer", "ThreadSanitizer", "LeakSanitizer",
+                                     "runtime error:", "critical"}) {
+          EXPECT_FALSE(contains(line.text, bad)) << "daemon: " << line.text;
+        }
+      }
+    }
     mode_.reset();
     std::error_code ec;
     fs::remove_all(run_dir_, ec);
@@ -109,6 +118,49 @@ std::size_t wait_sailing(DevicesRun& run, seconds timeout, milliseconds calm) {
 
 double distance_to(const core::NavPoint& a, const core::NavPoint& b) {
   return std::hypot(a.north_m - b.north_m, a.east_m - b.east_m);
+}
+
+// Devices mode reads the daemon's own log lines (src/app: health_reporter.cpp, core_host.cpp,
+// daemon.cpp); these are verbatim lines of a devices-mode run.
+TEST(DaemonLogParse, ReadsTheLinesDevicesModeActsOn) {
+  DaemonReport r;
+  parse_daemon_line(
+      "2026-11-23 17:15:24.001 info  device lidar: running (scanning: A2M8 fw 1.20 hw 5, express "
+      "mode 0 answer 0x82, 250.0 us/sample, motor accessory-board PWM)",
+      1, r);
+  parse_daemon_line("2026-11-23 17:15:29.223 warning device imu: stale (started)", 2, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:29.181 info  mission: course1/to_waypoint -> hold/course1/to_waypoint: "
+      "lidar stale (no scan for 309 ms)",
+      3, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:53.441 info  counters gnss: state=running bytes=14640 frames=150 "
+      "rate=5.0Hz checksum_err=0 framing_err=0 dropped=0 reopens=0 last_frame_age=0.23s",
+      4, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:33.441 info  tick: 499 ticks, duration min 0.029 mean 0.090 p99 0.460 max "
+      "0.959 ms, max lateness 24.997 ms, overruns 2, skipped 2",
+      5, r);
+  parse_daemon_line("2026-11-23 17:21:10.001 info  mission finished after 307.9 s", 6, r);
+  parse_daemon_line(
+      "2026-11-23 17:16:03.371 info  stopping on SIGTERM: commanded neutral actuators; 1989 ticks "
+      "in 39.9 s, 2 overruns",
+      7, r);
+  EXPECT_EQ(r.device_state["lidar"], "running");
+  EXPECT_EQ(r.device_state["imu"], "stale");
+  ASSERT_EQ(r.transitions.size(), 1U);
+  EXPECT_EQ(r.transitions[0].stamp_ns, 3);
+  EXPECT_EQ(r.transitions[0].from, "course1/to_waypoint");
+  EXPECT_EQ(r.transitions[0].to, "hold/course1/to_waypoint");
+  EXPECT_EQ(r.transitions[0].reason, "lidar stale (no scan for 309 ms)");
+  EXPECT_DOUBLE_EQ(r.device_rate_hz["gnss"], 5.0);
+  EXPECT_EQ(r.window_overruns, 2U);
+  EXPECT_DOUBLE_EQ(r.worst_tick_p99_ms, 0.46);
+  EXPECT_DOUBLE_EQ(r.worst_tick_max_ms, 0.959);
+  EXPECT_TRUE(r.finished);
+  ASSERT_TRUE(r.total_ticks.has_value());
+  EXPECT_EQ(*r.total_ticks, 1989U);
+  EXPECT_EQ(r.total_overruns.value_or(0), 2U);
 }
 
 TEST(DaemonDevices, EveryDeviceRunsAndTheBoatSailsTowardTheFirstWaypoint) {

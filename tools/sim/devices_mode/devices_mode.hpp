@@ -96,8 +96,8 @@ class DevicesMode {
   /// the run directory. `interrupt` (may be null) ends the run when it becomes true.
   DevicesOutcome run(const std::atomic<bool>* interrupt);
 
-  /// The host of a serial device (unplug/replug, silence...); null before run() started it or
-  /// for the camera.
+  /// The host of a serial device (unplug/replug, silence...); null before run() started it,
+  /// after it ended, or for the camera. The pointer is valid only while run() is running.
   [[nodiscard]] pty::EmulatorHost* host(msg::DeviceId id);
   /// The daemon; null before run() started it.
   [[nodiscard]] DaemonProcess* daemon();
