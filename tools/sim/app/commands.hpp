@@ -14,4 +14,9 @@ void add_course_commands(CLI::App& app, int& exit_code);
 /// `batch --kind K --runs N [--seed0 S] [--jobs J] [--baseline]`.
 void add_run_commands(CLI::App& app, int& exit_code);
 
+/// `devices --course FILE [--mission FILE] [--boat FILE] [--seed N] [--run-dir DIR]
+/// [--daemon PATH] [--time-limit S] [--quiet]`: the unmodified daemon against the device
+/// emulators in real time (sim/devices_mode), scored.
+void add_devices_command(CLI::App& app, int& exit_code);
+
 }  // namespace coxswain::sim::app

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // coxswain-sim: check, generate and draw course files; drive the simulated boat with fixed
-// commands; sail the real mission core in lockstep (`run`, `batch`).
+// commands; sail the real mission core in lockstep (`run`, `batch`); run the unmodified daemon
+// against the device emulators in real time (`devices`).
 #include <CLI/CLI.hpp>
 
 #include "commands.hpp"
@@ -11,6 +12,7 @@ int main(int argc, char** argv) {
   int exit_code = 0;
   coxswain::sim::app::add_course_commands(app, exit_code);
   coxswain::sim::app::add_run_commands(app, exit_code);
+  coxswain::sim::app::add_devices_command(app, exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;
 }

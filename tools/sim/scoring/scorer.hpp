@@ -99,6 +99,12 @@ class Scorer {
   void update(const dynamics::TruthState& truth, msg::LedColour led);
   /// True once the run is complete or out of time: the runner stops.
   [[nodiscard]] bool done() const { return done_; }
+  /// Ends the run at `t_s` when the boat stops sailing before the rules end it (the mission
+  /// finished, or the run was cut short): elapsed time, course ends, score and bonuses are settled
+  /// as at completion. No-op once done.
+  void finish(double t_s) {
+    if (!done_) conclude(t_s);
+  }
   /// The result so far (final after done() or at the end of the run).
   [[nodiscard]] const ScoreResult& result() const { return result_; }
   /// Distance from the hull outline at `pose` to obstacle i (<= 0 = touching), for tests.

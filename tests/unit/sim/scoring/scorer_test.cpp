@@ -258,6 +258,27 @@ TEST(Scorer, Kaboat2026PenalisesPerCourseAndAwardsBonuses) {
   EXPECT_EQ(j["bonus_points"], 80.0);
 }
 
+TEST(Scorer, FinishSettlesARunTheMissionEndedBeforeTheRules) {
+  const world::World w = kaboat2026_world();
+  Scorer s(w, hull());
+  s.update(at(10.0, {{10.0, 0.3}, 0.0}), {});  // one collision in course 1
+  s.update(at(30.0, {{22.0, 0.0}, 0.0}), {});
+  s.update(at(40.0, {{25.0, 0.0}, 0.0}), msg::LedColour::kGreen);  // recognised
+  s.update(at(60.0, {{42.0, 0.0}, 0.0}), msg::LedColour::kGreen);  // in course 3, not docked
+  ASSERT_FALSE(s.done());
+  EXPECT_DOUBLE_EQ(s.result().elapsed_s, 0.0);
+  s.finish(75.0);
+  const ScoreResult& r = s.result();
+  EXPECT_TRUE(s.done());
+  EXPECT_FALSE(r.completed);
+  EXPECT_DOUBLE_EQ(r.elapsed_s, 75.0);
+  EXPECT_DOUBLE_EQ(r.score_s, 85.0);
+  EXPECT_DOUBLE_EQ(r.bonus_points, 30.0);
+  EXPECT_DOUBLE_EQ(r.courses[2].end_s, 75.0);
+  s.finish(90.0);  // no-op once done
+  EXPECT_DOUBLE_EQ(s.result().elapsed_s, 75.0);
+}
+
 TEST(Scorer, Kaboat2026WrongColourFirstIsNotRecognisedAndCourseTimeLimitHolds) {
   const world::World w = kaboat2026_world();
   Scorer s(w, hull());

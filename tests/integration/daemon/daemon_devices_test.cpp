@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: Apache-2.0
+// End to end: `coxswain run` (the unmodified daemon, a child process) against every device
+// emulator on a pseudo-terminal and the camera frame directory, the world stepped in real time by
+// devices mode on the 2026 course and mission. Everything is observed from outside the daemon, as
+// an operator would: its log lines (stamped on arrival, so latencies are upper bounds) and the
+// simulated boat's truth.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <thread>
+
+#include "coxswain/config/config.hpp"
+#include "coxswain/core/clock.hpp"
+#include "sim/devices_mode/devices_mode.hpp"
+#include "sim/world/course.hpp"
+
+namespace coxswain::sim::devices_mode {
+namespace {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+const fs::path kConfig = COXSWAIN_TEST_CONFIG_DIR;
+
+bool contains(const std::string& s, std::string_view what) {
+  return s.find(what) != std::string::npos;
+}
+
+// Devices mode on its own thread for the length of a test; stopped (Ctrl-C path) at the end.
+class DevicesRun {
+ public:
+  explicit DevicesRun(const std::string& name) {
+    run_dir_ =
+        fs::temp_directory_path() / ("coxswain-devices-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(run_dir_);
+    DevicesModeOptions o;
+    o.course_file = kConfig / "courses" / "kaboat2026.yaml";
+    o.mission_file = kConfig / "missions" / "kaboat2026.yaml";
+    o.run_dir = run_dir_;
+    o.time_limit_s = 120.0;  // a backstop: each test stops the run itself
+    o.record = false;        // spare the shared CPU; the recorder has its own tests
+    mode_ = std::make_unique<DevicesMode>(o);
+    thread_ = std::thread([this] { outcome_ = mode_->run(&stop_); });
+    daemon_ = mode_->wait_started(seconds(30));
+  }
+  ~DevicesRun() {
+    stop_.store(true);
+    thread_.join();
+    // A sanitizer build's daemon reports into its log: any report fails the test.
+    if (daemon_ != nullptr) {
+      for (const LogLine& line : daemon_->lines()) {
+        for (std::string_view bad : {"AddressSanitizer", "ThreadSanitizer", "LeakSanitizer",
+                                     "runtime error:", "critical"}) {
+          EXPECT_FALSE(contains(line.text, bad)) << "daemon: " << line.text;
+        }
+      }
+    }
+    mode_.reset();
+    std::error_code ec;
+    fs::remove_all(run_dir_, ec);
+  }
+  DevicesRun(const DevicesRun&) = delete;
+  DevicesRun& operator=(const DevicesRun&) = delete;
+
+  DevicesMode& mode() { return *mode_; }
+  DaemonProcess* daemon() { return daemon_; }
+  const fs::path& run_dir() const { return run_dir_; }
+  /// Waits for a log line (from index `from`) containing `what`.
+  std::optional<std::pair<std::size_t, LogLine>> wait_line(std::size_t from, std::string_view what,
+                                                           seconds timeout) {
+    return daemon_->wait_for(
+        from, [what](const std::string& l) { return contains(l, what); }, timeout);
+  }
+
+ private:
+  fs::path run_dir_;
+  std::unique_ptr<DevicesMode> mode_;
+  std::atomic<bool> stop_{false};
+  DevicesOutcome outcome_;
+  std::thread thread_;
+  DaemonProcess* daemon_ = nullptr;
+};
+
+// Waits until the mission is sailing course 1 (started, not holding) and stays so for `calm`.
+std::size_t wait_sailing(DevicesRun& run, seconds timeout, milliseconds calm) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto started = run.wait_line(0, "-> course1/", timeout);
+  EXPECT_TRUE(started.has_value()) << "the mission never started course 1";
+  if (!started) return 0;
+  std::size_t from = started->first + 1;
+  while (std::chrono::steady_clock::now() < deadline) {
+    // Any later transition restarts the calm period (e.g. a transient hold on a loaded machine).
+    auto next = run.daemon()->wait_for(
+        from, [](const std::string& l) { return contains(l, "mission: "); }, calm);
+    if (!next) {
+      const auto lines = run.daemon()->lines();
+      // Calm: the last transition seen leaves the mission sailing, not holding.
+      for (std::size_t i = lines.size(); i-- > 0;) {
+        if (contains(lines[i].text, "mission: ")) {
+          if (contains(lines[i].text, "-> course1/")) return lines.size();
+          break;
+        }
+      }
+      from = run.daemon()->line_count();
+      continue;
+    }
+    from = next->first + 1;
+  }
+  ADD_FAILURE() << "the mission never sailed course 1 calmly";
+  return 0;
+}
+
+double distance_to(const core::NavPoint& a, const core::NavPoint& b) {
+  return std::hypot(a.north_m - b.north_m, a.east_m - b.east_m);
+}
+
+// Devices mode reads the daemon's own log lines (src/app: health_reporter.cpp, core_host.cpp,
+// daemon.cpp); these are verbatim lines of a devices-mode run.
+TEST(DaemonLogParse, ReadsTheLinesDevicesModeActsOn) {
+  DaemonReport r;
+  parse_daemon_line(
+      "2026-11-23 17:15:24.001 info  device lidar: running (scanning: A2M8 fw 1.20 hw 5, express "
+      "mode 0 answer 0x82, 250.0 us/sample, motor accessory-board PWM)",
+      1, r);
+  parse_daemon_line("2026-11-23 17:15:29.223 warning device imu: stale (started)", 2, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:29.181 info  mission: course1/to_waypoint -> hold/course1/to_waypoint: "
+      "lidar stale (no scan for 309 ms)",
+      3, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:53.441 info  counters gnss: state=running bytes=14640 frames=150 "
+      "rate=5.0Hz checksum_err=0 framing_err=0 dropped=0 reopens=0 last_frame_age=0.23s",
+      4, r);
+  parse_daemon_line(
+      "2026-11-23 17:15:33.441 info  tick: 499 ticks, duration min 0.029 mean 0.090 p99 0.460 max "
+      "0.959 ms, max lateness 24.997 ms, overruns 2, skipped 2",
+      5, r);
+  parse_daemon_line("2026-11-23 17:21:10.001 info  mission finished after 307.9 s", 6, r);
+  parse_daemon_line(
+      "2026-11-23 17:16:03.371 info  stopping on SIGTERM: commanded neutral actuators; 1989 ticks "
+      "in 39.9 s, 2 overruns",
+      7, r);
+  EXPECT_EQ(r.device_state["lidar"], "running");
+  EXPECT_EQ(r.device_state["imu"], "stale");
+  ASSERT_EQ(r.transitions.size(), 1U);
+  EXPECT_EQ(r.transitions[0].stamp_ns, 3);
+  EXPECT_EQ(r.transitions[0].from, "course1/to_waypoint");
+  EXPECT_EQ(r.transitions[0].to, "hold/course1/to_waypoint");
+  EXPECT_EQ(r.transitions[0].reason, "lidar stale (no scan for 309 ms)");
+  EXPECT_DOUBLE_EQ(r.device_rate_hz["gnss"], 5.0);
+  EXPECT_EQ(r.window_overruns, 2U);
+  EXPECT_DOUBLE_EQ(r.worst_tick_p99_ms, 0.46);
+  EXPECT_DOUBLE_EQ(r.worst_tick_max_ms, 0.959);
+  EXPECT_TRUE(r.finished);
+  ASSERT_TRUE(r.total_ticks.has_value());
+  EXPECT_EQ(*r.total_ticks, 1989U);
+  EXPECT_EQ(r.total_overruns.value_or(0), 2U);
+}
+
+TEST(DaemonDevices, EveryDeviceRunsAndTheBoatSailsTowardTheFirstWaypoint) {
+  config::ConfigErrors errors;
+  const world::Course course =
+      world::load_course_file((kConfig / "courses" / "kaboat2026.yaml").string(), errors);
+  ASSERT_TRUE(errors.empty()) << errors.format();
+  ASSERT_FALSE(course.world.waypoints.empty());
+  const core::NavPoint wp1 = course.world.waypoints.front().position;
+
+  DevicesRun run("sails");
+  ASSERT_NE(run.daemon(), nullptr) << "devices mode did not start the daemon";
+  for (const char* device : {"lidar", "imu", "gnss", "arduino", "camera"}) {
+    const std::string running = std::string("device ") + device + ": running";
+    EXPECT_TRUE(run.wait_line(0, running, seconds(30)).has_value())
+        << device << " never reported running";
+  }
+  // Every serial device's port is the emulator's pty behind the generated devices.yaml.
+  for (msg::DeviceId id : {msg::DeviceId::kLidar, msg::DeviceId::kImu, msg::DeviceId::kGnss,
+                           msg::DeviceId::kArduino}) {
+    pty::EmulatorHost* host = run.mode().host(id);
+    ASSERT_NE(host, nullptr);
+    EXPECT_GT(host->counters().bytes_from_host, 0U) << msg::device_name(id) << ": the daemon "
+                                                    << "never wrote to its port";
+    EXPECT_GT(host->counters().bytes_to_host, 0U);
+  }
+
+  ASSERT_TRUE(run.wait_line(0, "-> course1/", seconds(40)).has_value())
+      << "the mission never started";
+  const core::NavPoint start = run.mode().truth().pose.position;
+  const double d0 = distance_to(start, wp1);
+  // Sail for a while: the boat must close on the first waypoint under the daemon's commands,
+  // which reach the boat only through the emulated Arduino's applied outputs.
+  const auto deadline = std::chrono::steady_clock::now() + seconds(30);
+  double best = d0;
+  while (std::chrono::steady_clock::now() < deadline && best > d0 - 5.0) {
+    std::this_thread::sleep_for(milliseconds(200));
+    best = std::min(best, distance_to(run.mode().truth().pose.position, wp1));
+  }
+  EXPECT_LT(best, d0 - 5.0) << "the boat did not close 5 m on the first waypoint (start " << d0
+                            << " m away, best " << best << " m)";
+  const auto t = run.mode().truth();
+  EXPECT_GT(t.u_mps, 0.2) << "the boat is not under way";
+}
+
+// Unplugs device `id` mid-mission: the mission holds within 0.5 s (measured from the unplug to
+// the arrival of the daemon's hold line) and resumes once the device is plugged back in.
+void unplug_holds_and_replug_resumes(DevicesRun& run, msg::DeviceId id, std::string_view stale) {
+  const std::size_t from = wait_sailing(run, seconds(60), milliseconds(1500));
+  ASSERT_GT(from, 0U);
+  pty::EmulatorHost* host = run.mode().host(id);
+  ASSERT_NE(host, nullptr);
+  const core::TimeNs unplug_ns = core::SteadyClock().now_ns();
+  host->unplug();
+  const auto hold = run.daemon()->wait_for(
+      from,
+      [](const std::string& l) { return contains(l, "mission: ") && contains(l, "-> hold/"); },
+      seconds(10));
+  ASSERT_TRUE(hold.has_value()) << msg::device_name(id) << " unplugged: the mission never held";
+  const double hold_s = core::ns_to_sec(hold->second.stamp_ns - unplug_ns);
+  ::testing::Test::RecordProperty(std::string(msg::device_name(id)) + "_hold_latency_ms",
+                                  std::to_string(std::lround(hold_s * 1000.0)));
+  EXPECT_TRUE(contains(hold->second.text, stale)) << hold->second.text;
+  EXPECT_LT(hold_s, 0.5) << msg::device_name(id) << " unplugged: hold after " << hold_s << " s";
+  EXPECT_GT(hold_s, 0.0);
+
+  std::this_thread::sleep_for(milliseconds(1000));  // unplugged for a while: still holding
+  host->replug();
+  const auto resume = run.daemon()->wait_for(
+      hold->first + 1,
+      [](const std::string& l) { return contains(l, "mission: ") && contains(l, "resume: "); },
+      seconds(20));
+  ASSERT_TRUE(resume.has_value()) << msg::device_name(id)
+                                  << " replugged: the mission never "
+                                     "resumed";
+  EXPECT_TRUE(contains(resume->second.text, "-> course1/")) << resume->second.text;
+}
+
+TEST(DaemonDevices, GnssUnplugHoldsWithinHalfASecondAndReplugResumes) {
+  DevicesRun run("gnss");
+  ASSERT_NE(run.daemon(), nullptr);
+  unplug_holds_and_replug_resumes(run, msg::DeviceId::kGnss, "gnss stale");
+}
+
+TEST(DaemonDevices, LidarUnplugHoldsWithinHalfASecondAndReplugResumes) {
+  DevicesRun run("lidar");
+  ASSERT_NE(run.daemon(), nullptr);
+  unplug_holds_and_replug_resumes(run, msg::DeviceId::kLidar, "lidar stale");
+}
+
+}  // namespace
+}  // namespace coxswain::sim::devices_mode
