@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -25,6 +26,7 @@
 #include "coxswain/drivers/ublox/rtcm_queue.hpp"
 #include "coxswain/drivers/ublox/rtcm_source.hpp"
 #include "coxswain/drivers/ublox/session.hpp"
+#include "coxswain/live/live_server.hpp"
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/perception/vision_params.hpp"
 #include "coxswain/record/recorder.hpp"
@@ -164,6 +166,49 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
       recorder.reset();
     }
   }
+  // The control socket, status page and live view: the only writer of operator_input.
+  live::LiveOptions live_options;
+  live_options.socket_path = config.devices.live.control_socket.empty()
+                                 ? options.run_dir / "control.sock"
+                                 : std::filesystem::path(config.devices.live.control_socket);
+  live_options.http_enabled = config.devices.live.http_enabled;
+  live_options.http_address = config.devices.live.http_address;
+  live_options.http_port = config.devices.live.http_port;
+  live_options.viz_rate_hz = config.devices.live.viz_rate_hz;
+  live_options.token = config.devices.live.token;
+  live_options.initial_target_colour = options.target_colour;
+  live_options.initial_target_shape = options.target_shape;
+  auto live_server = std::make_unique<live::LiveServer>(live_options, *store, clock);
+  auto live_tick = std::make_unique<live::LiveTick>();
+  auto live_params = std::make_unique<mission::TunableParameters>();
+  std::string live_error;
+  bool live_started = live_server->start(live_error);
+  if (!live_started && live_options.http_enabled) {
+    // A busy port (another daemon, a test beside us) must not cost the control socket.
+    spdlog::warn("live view disabled ({}); control socket only", live_error);
+    live_options.http_enabled = false;
+    live_server = std::make_unique<live::LiveServer>(live_options, *store, clock);
+    live_started = live_server->start(live_error);
+  }
+  if (live_started) {
+    spdlog::info("control socket {}", live_options.socket_path.string());
+    if (live_server->http_port() != 0) {
+      spdlog::info("status page and live view on http://{}:{}/", live_options.http_address,
+                   live_server->http_port());
+      std::ofstream(options.run_dir / "live.port") << live_server->http_port() << "\n";
+    }
+    live_server->publish_parameters(core->parameters(), clock.now_ns());
+  } else {
+    spdlog::error("control socket could not start ({}): no control interface", live_error);
+    live_server.reset();
+    if (options.target_colour != msg::Colour::kUnknown) {
+      msg::OperatorInput target;  // no control thread: this thread is the slot's only writer
+      target.stamp_ns = clock.now_ns();
+      target.target_colour = options.target_colour;
+      target.target_shape = options.target_shape;
+      store->operator_input.publish(target, target.stamp_ns);
+    }
+  }
   RawByteTee raw_tee(recorder.get(), capture.get());
   drivers::RawByteSink* const raw_sink =
       (recorder || capture) ? static_cast<drivers::RawByteSink*>(&raw_tee) : nullptr;
@@ -227,11 +272,26 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
         if (reporter.report_changes(*snapshot) > 0) {
           notifier.status(config.mission.name + ": " + HealthReporter::summary(*snapshot));
         }
+        if (live_server && live_server->take_parameters(*live_params)) {
+          // Between two steps: the core never sees a half-applied set. Rare (an operator action).
+          const std::string error = core->apply_parameters(*live_params);
+          const std::string line = error.empty() ? "live: tunable parameters applied"
+                                                 : "live: parameters refused: " + error;
+          spdlog::info("{}", line);
+          if (recorder) (void)recorder->record_log(tick.now_ns, spdlog::level::info, "live", line);
+          live_server->publish_parameters(core->parameters(), tick.now_ns);
+        }
         core->step(*snapshot, tick.now_ns, *out);
         store->command.publish(out->command, tick.now_ns);
         log_transitions(out->transitions);
+        if (recorder || live_server) fill_tick_viz(*out, config.boat, *tick_viz);
+        if (live_server) {
+          live_tick->summary.tick_index = tick.index;
+          live_tick->summary.status = out->status;
+          live_tick->viz = *tick_viz;
+          live_server->publish_tick(*live_tick, tick.now_ns);
+        }
         if (recorder) {
-          fill_tick_viz(*out, config.boat, *tick_viz);
           (void)recorder->record_tick({tick.index, tick.now_ns, snapshot.get(), out->command,
                                        out->status.state_path.view(), tick_viz.get()});
         }
@@ -265,6 +325,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
       });
 
   notifier.stopping();
+  if (live_server) live_server->stop();
   if (serial_drivers.drives(msg::DeviceId::kArduino)) {
     // Give the Arduino driver two of its command periods to send neutral outputs before its
     // port closes (the board's own failsafe would neutralise them too, but later).

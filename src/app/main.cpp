@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // coxswain: the autonomy daemon. `coxswain run` sails; `coxswain check-config FILE...` validates;
 // `coxswain decode --device D FILE` prints a raw device capture as JSON lines; `coxswain replay
-// RUN.mcap` re-runs the core on a recording; `coxswain report RUN.mcap` writes its HTML report.
+// RUN.mcap` re-runs the core on a recording; `coxswain report RUN.mcap` writes its HTML report;
+// `coxswain ctl CMD...` sends a command to the running daemon's control socket.
 // Exit status: 0 success, 1 runtime failure, 2 configuration error.
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
@@ -18,6 +19,8 @@
 #include "coxswain/app/logging.hpp"
 #include "coxswain/app/run_dir.hpp"
 #include "coxswain/config/config.hpp"
+#include "coxswain/live/control_client.hpp"
+#include "coxswain/live/control_protocol.hpp"
 #include "coxswain/replay/command.hpp"
 #include "coxswain/report/report.hpp"
 #include "coxswain/version.hpp"
@@ -133,6 +136,22 @@ int main(int argc, char** argv) {
   run->add_flag("--stop-when-finished", stop_when_finished,
                 "End the run once the mission reports finished");
 
+  std::vector<std::string> target_words;
+  run->add_option("--target", target_words,
+                  "Docking target COLOUR SHAPE (e.g. --target red triangle), as `ctl target`")
+      ->expected(2);
+
+  auto* ctl = app.add_subcommand(
+      "ctl",
+      "Send a command to the running daemon: start, hold, resume, target COLOUR SHAPE, status. "
+      "Prints the daemon's one-line JSON answer");
+  std::vector<std::string> ctl_words;
+  std::string ctl_socket;
+  ctl->add_option("--socket", ctl_socket,
+                  "Control socket (default: $COXSWAIN_CONTROL_SOCKET, the devices file's "
+                  "live.control_socket, else the newest <log-dir>/*/control.sock)");
+  ctl->add_option("command", ctl_words, "The command and its arguments")->required();
+
   auto* decode = app.add_subcommand(
       "decode",
       "Print every message of a raw device capture as one JSON object per line, then a "
@@ -175,6 +194,41 @@ int main(int argc, char** argv) {
     return coxswain::app::decode_capture_file(*format, decode_file, std::cout, std::cerr) == 0
                ? 0
                : kExitRuntime;
+  }
+
+  if (ctl->parsed()) {
+    std::string line;
+    for (const std::string& w : ctl_words) line += (line.empty() ? "" : " ") + w;
+    if (std::string error; !coxswain::live::parse_command(line, error)) {
+      std::cerr << "ctl: " << error << "\n";
+      return kExitConfig;
+    }
+    fs::path socket = ctl_socket;
+    if (const char* env = std::getenv("COXSWAIN_CONTROL_SOCKET");
+        socket.empty() && env != nullptr && env[0] != '\0') {
+      socket = env;
+    }
+    if (socket.empty()) {
+      ConfigErrors ignored;  // a broken devices file must not stop an operator's hold
+      const fs::path dir = resolve_config_dir(config_dir_flag);
+      const auto devices = coxswain::config::load_devices_config(
+          devices_file.empty() ? (dir / "devices.yaml").string() : devices_file, ignored);
+      socket = devices.live.control_socket;
+    }
+    if (socket.empty()) socket = coxswain::live::newest_run_socket(log_dir);
+    if (socket.empty()) {
+      std::cerr << "ctl: no control socket found under '" << log_dir
+                << "' (is the daemon running? use --socket)\n";
+      return kExitRuntime;
+    }
+    std::string error;
+    const auto answer = coxswain::live::send_control_command(socket, line, error);
+    if (!answer) {
+      std::cerr << "ctl: " << error << "\n";
+      return kExitRuntime;
+    }
+    std::cout << *answer << "\n";
+    return coxswain::live::answer_ok(*answer) ? 0 : kExitRuntime;
   }
 
   const auto level = coxswain::app::parse_log_level(log_level);
@@ -220,6 +274,12 @@ int main(int argc, char** argv) {
     return 0;
   }
 
+  if (!target_words.empty() &&
+      (target_words.size() != 2 || !coxswain::live::parse_colour(target_words[0]) ||
+       !coxswain::live::parse_shape(target_words[1]))) {
+    std::cerr << "--target: expected COLOUR SHAPE (e.g. red triangle)\n";
+    return kExitConfig;
+  }
   fs::path run_dir;
   try {
     run_dir = coxswain::app::create_run_dir(log_dir, config.mission.name, std::time(nullptr));
@@ -240,6 +300,10 @@ int main(int argc, char** argv) {
     run_options.build_version =
         std::string("coxswain ") + coxswain::kVersion + " (git " + coxswain::kGitHash + ")";
     run_options.stop_when_finished = stop_when_finished;
+    if (!target_words.empty()) {
+      run_options.target_colour = *coxswain::live::parse_colour(target_words[0]);
+      run_options.target_shape = *coxswain::live::parse_shape(target_words[1]);
+    }
     status = coxswain::app::run_daemon(config, run_options);
   } catch (const std::exception& e) {
     spdlog::critical("fatal: {}", e.what());

@@ -434,6 +434,16 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
     if (c.enabled && c.source.empty()) m->error("source", "must not be empty when enabled");
     m->finish();
   }
+  if (auto m = root.map("live")) {
+    LiveConfig& l = d.live;
+    l.control_socket = m->get<std::string>("control_socket", "");
+    l.http_enabled = m->get("http_enabled", true);
+    l.http_address = m->get<std::string>("http_address", "127.0.0.1");
+    l.http_port = m->get<std::uint16_t>("http_port", 8765, {0, 65535});
+    l.viz_rate_hz = m->get("viz_rate_hz", 10.0, {0.1, 100.0});
+    l.token = m->get<std::string>("token", "");
+    m->finish();
+  }
   root.finish();
   return d;
 }
@@ -847,6 +857,15 @@ std::string to_yaml(const Configuration& c) {
   kv(out, "contrast", d.camera.contrast);
   kv(out, "brightness", d.camera.brightness);
   kv(out, "timeout_ms", d.camera.timeout_ms);
+  out << YAML::EndMap;
+  out << YAML::Key << "live" << YAML::Value << YAML::BeginMap;
+  kv(out, "control_socket", d.live.control_socket);
+  kv(out, "http_enabled", d.live.http_enabled);
+  kv(out, "http_address", d.live.http_address);
+  kv(out, "http_port", d.live.http_port);
+  kv(out, "viz_rate_hz", d.live.viz_rate_hz);
+  // Never the token itself: this text goes into every recording.
+  kv(out, "token", d.live.token.empty() ? "" : "(set)");
   out << YAML::EndMap << YAML::EndMap;
 
   const MissionConfig& m = c.mission;

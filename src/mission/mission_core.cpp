@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "coxswain/control/actuator_mixer.hpp"
@@ -609,6 +610,21 @@ MissionCore& MissionCore::operator=(MissionCore&&) noexcept = default;
 
 void MissionCore::step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out) {
   impl_->step(snapshot, now_ns, out);
+}
+
+std::string MissionCore::apply_parameters(const TunableParameters& params) {
+  if (auto e = params.heading_pid.validate()) return "heading_pid: " + *e;
+  if (auto e = params.clustering.validate(); !e.empty()) return "clustering: " + e;
+  impl_->m.heading_pid = params.heading_pid;
+  impl_->pid = control::HeadingPid(params.heading_pid);
+  impl_->m.clustering = params.clustering;
+  // Rebuilding the clusterer allocates its work buffers once: an operator action, not a tick.
+  impl_->clusterer = perception::LidarClusterer(params.clustering);
+  return {};
+}
+
+TunableParameters MissionCore::parameters() const {
+  return {impl_->m.heading_pid, impl_->m.clustering};
 }
 
 }  // namespace coxswain::mission

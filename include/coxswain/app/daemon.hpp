@@ -5,6 +5,7 @@
 #include <string>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/msg/camera_detections.hpp"
 
 namespace coxswain::app {
 
@@ -15,6 +16,8 @@ struct RunOptions {
   bool record = true;                 // flight recording to <run_dir>/run.mcap
   std::string build_version;          // written into the recording
   bool stop_when_finished = false;    // end the run once the mission reports finished
+  msg::Colour target_colour = msg::Colour::kUnknown;  // --target: the docking target from the
+  msg::Shape target_shape = msg::Shape::kUnknown;     // command line (as `coxswain ctl target`)
 };
 
 /// Blocks SIGINT/SIGTERM in the calling thread and so in every thread started after it (the

@@ -128,6 +128,17 @@ struct CameraDeviceConfig {
   std::uint32_t timeout_ms = 1000;
 };
 
+/// The local control interface and live view (src/live): control socket, status page and the
+/// Foxglove WebSocket server.
+struct LiveConfig {
+  std::string control_socket;  // "" = <run directory>/control.sock
+  bool http_enabled = true;    // status page + Foxglove WebSocket
+  std::string http_address = "127.0.0.1";
+  std::uint16_t http_port = 8765;  // 0 = any free port (written to <run directory>/live.port)
+  double viz_rate_hz = 10.0;       // Foxglove messageData per channel at most this often
+  std::string token;               // status page buttons; "" = buttons refused
+};
+
 struct DevicesConfig {
   std::string file;
   LidarDeviceConfig lidar;
@@ -135,6 +146,7 @@ struct DevicesConfig {
   GnssDeviceConfig gnss;
   ArduinoDeviceConfig arduino;
   CameraDeviceConfig camera;
+  LiveConfig live;
 };
 
 enum class StartMode : std::uint8_t { kImmediate = 0, kArduinoSwitch, kControl };

@@ -11,14 +11,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/control/heading_pid.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/camera_detections.hpp"
+#include "coxswain/perception/lidar_clusterer.hpp"
 
 namespace coxswain::mission {
 
@@ -145,6 +148,13 @@ struct CoreOutput {
   VizFrame viz;
 };
 
+/// The parameters an operator may retune while the boat sails (live view parameter interface).
+/// Trivially copyable so it can cross threads through a core::LatestSlot.
+struct TunableParameters {
+  control::HeadingPidParams heading_pid;
+  perception::LidarClusterParams clustering;
+};
+
 /// The mission state machine. Construct once from a validated Configuration (throws
 /// std::invalid_argument when an engine parameter is invalid); then call step() once per tick
 /// with a monotonic `now_ns`. Not thread-safe: one owner, the tick thread.
@@ -159,6 +169,13 @@ class MissionCore {
 
   /// One tick. Overwrites `out` entirely.
   void step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out);
+
+  /// Replaces the tunable parameters between two steps (never during one). Returns an empty
+  /// string when applied, else why the set was rejected (nothing changes then). A new heading
+  /// PID starts without integral or rate history; the clusterer keeps its buffers' capacity.
+  [[nodiscard]] std::string apply_parameters(const TunableParameters& params);
+  /// The parameters in force.
+  [[nodiscard]] TunableParameters parameters() const;
 
  private:
   struct Impl;

@@ -1,0 +1,720 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/live/live_server.hpp"
+
+#include <spdlog/spdlog.h>
+#include <sys/stat.h>
+
+#include <array>
+#include <atomic>
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "coxswain/record/foxglove.hpp"
+#include "status_page.hpp"
+
+namespace coxswain::live {
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+using local_stream = asio::local::stream_protocol;
+using nlohmann::json;
+namespace fox = record::foxglove;
+
+constexpr std::string_view kSubprotocol = "foxglove.websocket.v1";
+constexpr std::size_t kMaxLineBytes = 4096;
+constexpr std::size_t kMaxBodyBytes = 8192;
+constexpr std::size_t kMaxQueuedFrames = 64;  // per client; a slow client loses viz frames
+
+struct ChannelInfo {
+  std::uint32_t id;
+  std::string_view topic;
+  fox::Schema schema;
+};
+enum ChannelId : std::uint32_t { kTf = 1, kScene = 2, kScan = 3, kFix = 4, kLog = 5 };
+const std::array<ChannelInfo, 5> kChannels = {{{kTf, "/tf", fox::Schema::kFrameTransform},
+                                               {kScene, "/viz/scene", fox::Schema::kSceneUpdate},
+                                               {kScan, "/viz/scan", fox::Schema::kLaserScan},
+                                               {kFix, "/viz/fix", fox::Schema::kLocationFix},
+                                               {kLog, "/log", fox::Schema::kLog}}};
+
+std::string message_data(std::uint32_t subscription_id, core::TimeNs stamp_ns,
+                         std::string_view payload) {
+  std::string frame;
+  frame.resize(1 + 4 + 8 + payload.size());
+  frame[0] = 0x01;  // messageData
+  const std::uint64_t ts = stamp_ns > 0 ? static_cast<std::uint64_t>(stamp_ns) : 0U;
+  for (std::size_t i = 0; i < 4; ++i) {
+    frame[1 + i] = static_cast<char>((subscription_id >> (8 * i)) & 0xFFU);
+  }
+  for (std::size_t i = 0; i < 8; ++i) frame[5 + i] = static_cast<char>((ts >> (8 * i)) & 0xFFU);
+  std::memcpy(frame.data() + 13, payload.data(), payload.size());
+  return frame;
+}
+
+}  // namespace
+
+struct LiveServer::Impl {
+  class ControlSession;
+  class HttpSession;
+  class WsSession;
+
+  Impl(LiveOptions o, core::LatestStore& s, const core::Clock& c)
+      : options(std::move(o)),
+        store(s),
+        clock(c),
+        unix_acceptor(ioc),
+        tcp_acceptor(ioc),
+        viz_timer(ioc),
+        devices(std::make_unique<core::Snapshot>()),
+        scan(std::make_unique<core::Sample<msg::LidarScan>>()) {}
+
+  // ---- shared state, server thread unless noted ----------------------------------------------
+  LiveOptions options;
+  core::LatestStore& store;
+  const core::Clock& clock;
+  asio::io_context ioc;
+  local_stream::acceptor unix_acceptor;
+  tcp::acceptor tcp_acceptor;
+  asio::steady_timer viz_timer;
+  std::thread thread;
+  std::atomic<std::uint16_t> port{0};
+  bool started = false;
+  bool socket_bound = false;
+
+  OperatorState operator_state;
+  std::unique_ptr<core::Snapshot> devices;  // health only, for status answers
+  std::unique_ptr<core::Sample<msg::LidarScan>> scan;
+  std::vector<std::weak_ptr<WsSession>> clients;
+  std::uint64_t sent_tick_seq = 0;
+  std::uint64_t sent_scan_seq = 0;
+  std::uint64_t sent_fix_seq = 0;
+  std::optional<mission::TunableParameters> pending;  // latest requested set
+
+  // Cross-thread slots (writer named per slot).
+  core::LatestSlot<LiveTick> tick_slot;                         // tick thread
+  core::LatestSlot<mission::TunableParameters> in_force_slot;   // tick thread
+  core::LatestSlot<mission::TunableParameters> requested_slot;  // server thread
+  std::uint64_t consumed_request = 0;                           // tick thread
+
+  void publish_operator(const msg::OperatorInput& in) {
+    store.operator_input.publish(in, in.stamp_ns);
+  }
+
+  // ---- commands ------------------------------------------------------------------------------
+  std::string status_answer() {
+    const core::TimeNs now = clock.now_ns();
+    for (std::size_t i = 0; i < msg::kDeviceCount; ++i) store.health[i].read(devices->health[i]);
+    core::Sample<TickSummary> summary;
+    const core::Sample<LiveTick> t = tick_slot.read();
+    summary.value = t.value.summary;
+    summary.stamp_ns = t.stamp_ns;
+    summary.sequence = t.sequence;
+    return status_json(summary, operator_state.current(), *devices, now);
+  }
+
+  // Runs a parsed command; returns the JSON answer line (no newline).
+  std::string run_command(const ControlCommand& cmd, std::string_view via) {
+    if (cmd.kind == CommandKind::kStatus) return status_answer();
+    const msg::OperatorInput& in = operator_state.apply(cmd, clock.now_ns());
+    publish_operator(in);
+    std::string what;
+    switch (cmd.kind) {
+      case CommandKind::kStart:
+        what = "start";
+        break;
+      case CommandKind::kHold:
+        what = "hold";
+        break;
+      case CommandKind::kResume:
+        what = "resume";
+        break;
+      case CommandKind::kTarget:
+        what = "target " + std::string(msg::colour_name(cmd.colour)) + " " +
+               std::string(msg::shape_name(cmd.shape));
+        break;
+      case CommandKind::kStatus:
+        break;
+    }
+    spdlog::info("control: {} (from {})", what, via);
+    emit_log(fox::LogLevel::kInfo, "operator: " + what + " (from " + std::string(via) + ")");
+    json j = {{"ok", true}, {"command", what}};
+    return j.dump();
+  }
+
+  std::string handle_line(std::string_view line) {
+    std::string error;
+    const auto cmd = parse_command(line, error);
+    if (!cmd)
+      return json{{"ok", false}, {"error", error}}.dump(-1, ' ', false,
+                                                        json::error_handler_t::replace);
+    return run_command(*cmd, "control socket");
+  }
+
+  // ---- HTTP ----------------------------------------------------------------------------------
+  http::response<http::string_body> handle_http(const http::request<http::string_body>& req) {
+    http::response<http::string_body> res;
+    res.version(req.version());
+    res.keep_alive(req.keep_alive());
+    res.set(http::field::server, "coxswain");
+    res.set(http::field::cache_control, "no-store");
+    const auto reply = [&](http::status status, std::string_view type, std::string body) {
+      res.result(status);
+      res.set(http::field::content_type, beast::string_view(type.data(), type.size()));
+      res.body() = std::move(body);
+      res.prepare_payload();
+      return res;
+    };
+    const auto error = [&](http::status status, std::string_view text) {
+      return reply(status, "application/json",
+                   json{{"ok", false}, {"error", text}}.dump(-1, ' ', false,
+                                                             json::error_handler_t::replace));
+    };
+    const std::string_view target(req.target().data(), req.target().size());
+    if (target == "/" || target == "/index.html") {
+      if (req.method() != http::verb::get) return error(http::status::method_not_allowed, "GET");
+      return reply(http::status::ok, "text/html; charset=utf-8", std::string(kStatusPageHtml));
+    }
+    if (target == "/api/status") {
+      if (req.method() != http::verb::get) return error(http::status::method_not_allowed, "GET");
+      return reply(http::status::ok, "application/json", status_answer());
+    }
+    std::optional<CommandKind> kind;
+    if (target == "/api/start") kind = CommandKind::kStart;
+    if (target == "/api/hold") kind = CommandKind::kHold;
+    if (target == "/api/resume") kind = CommandKind::kResume;
+    if (target == "/api/target") kind = CommandKind::kTarget;
+    if (!kind) return error(http::status::not_found, "no such resource");
+    if (req.method() != http::verb::post) return error(http::status::method_not_allowed, "POST");
+    const auto token_it = req.find("X-Coxswain-Token");
+    const std::string_view presented =
+        token_it == req.end()
+            ? std::string_view()
+            : std::string_view(token_it->value().data(), token_it->value().size());
+    if (!token_matches(options.token, presented)) {
+      spdlog::warn("control: refused an HTTP {} without a valid token", target);
+      return error(http::status::unauthorized,
+                   options.token.empty() ? "no token is configured: the buttons are disabled"
+                                         : "bad or missing X-Coxswain-Token");
+    }
+    ControlCommand cmd{*kind, msg::Colour::kUnknown, msg::Shape::kUnknown};
+    if (*kind == CommandKind::kTarget) {
+      const json body = json::parse(req.body(), nullptr, false);
+      if (!body.is_object() || !body.contains("colour") || !body.contains("shape") ||
+          !body["colour"].is_string() || !body["shape"].is_string()) {
+        return error(http::status::bad_request, "body must be {\"colour\": ..., \"shape\": ...}");
+      }
+      const auto colour = parse_colour(body["colour"].get<std::string>());
+      const auto shape = parse_shape(body["shape"].get<std::string>());
+      if (!colour || !shape) return error(http::status::bad_request, "unknown colour or shape");
+      cmd.colour = *colour;
+      cmd.shape = *shape;
+    }
+    return reply(http::status::ok, "application/json", run_command(cmd, "status page"));
+  }
+
+  // ---- Foxglove ------------------------------------------------------------------------------
+  static std::string server_info() {
+    json j = {{"op", "serverInfo"},
+              {"name", "coxswain"},
+              {"capabilities", json::array({"parameters"})},
+              {"supportedEncodings", json::array()},
+              {"metadata", json::object()}};
+    return j.dump();
+  }
+  static std::string advertise() {
+    json channels = json::array();
+    for (const ChannelInfo& c : kChannels) {
+      channels.push_back({{"id", c.id},
+                          {"topic", std::string(c.topic)},
+                          {"encoding", std::string(fox::kMessageEncoding)},
+                          {"schemaName", std::string(fox::schema_name(c.schema))},
+                          {"schema", fox::schema_json(c.schema)},
+                          {"schemaEncoding", std::string(fox::kSchemaEncoding)}});
+    }
+    return json{{"op", "advertise"}, {"channels", std::move(channels)}}.dump();
+  }
+
+  static json status_op(int level, std::string_view message, const json& id) {
+    json j = {{"op", "status"}, {"level", level}, {"message", message}};
+    if (!id.is_null()) j["id"] = id;
+    return j;
+  }
+
+  json parameter_values(const std::vector<std::string>& names, const json& id) {
+    json params = json::array();
+    const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
+    if (in_force.valid()) {
+      for (const ParameterSpec& spec : parameter_specs()) {
+        bool wanted = names.empty();
+        for (const std::string& n : names) wanted = wanted || n == spec.name;
+        if (!wanted) continue;
+        const double value = spec.get(in_force.value);
+        params.push_back({{"name", std::string(spec.name)}, {"value", value}});
+      }
+    }
+    json j = {{"op", "parameterValues"}, {"parameters", std::move(params)}};
+    if (!id.is_null()) j["id"] = id;
+    return j;
+  }
+
+  // Validates and queues a set request; returns the status messages to send (empty: all ok).
+  std::vector<json> set_parameters(const json& list, const json& id,
+                                   std::vector<std::string>& names) {
+    std::vector<json> problems;
+    if (!pending) {
+      const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
+      if (!in_force.valid()) {
+        problems.push_back(status_op(2, "the mission core is not running yet", id));
+        return problems;
+      }
+      pending = in_force.value;
+    }
+    mission::TunableParameters candidate = *pending;
+    bool changed = false;
+    for (const json& p : list) {
+      if (!p.is_object() || !p.contains("name") || !p["name"].is_string()) continue;
+      const std::string name = p["name"].get<std::string>();
+      names.push_back(name);
+      if (!p.contains("value") || !p["value"].is_number()) {
+        problems.push_back(status_op(2, name + ": a number is required", id));
+        continue;
+      }
+      const std::string err = set_parameter(candidate, name, p["value"].get<double>());
+      if (!err.empty()) {
+        problems.push_back(status_op(2, "rejected: " + err, id));
+        spdlog::warn("live: parameter {} rejected: {}", name, err);
+        emit_log(fox::LogLevel::kWarning, "parameter " + name + " rejected: " + err);
+        continue;
+      }
+      spdlog::info("live: parameter {} = {} requested", name, p["value"].get<double>());
+      emit_log(fox::LogLevel::kInfo,
+               "parameter " + name + " = " + p["value"].dump() + " requested");
+      changed = true;
+    }
+    if (changed) {
+      pending = candidate;
+      requested_slot.publish(candidate, clock.now_ns());
+    }
+    return problems;
+  }
+
+  void emit_log(fox::LogLevel level, const std::string& text);
+  void on_viz_timer();
+  void arm_viz_timer() {
+    const double period_s = 1.0 / options.viz_rate_hz;
+    viz_timer.expires_after(std::chrono::nanoseconds(core::sec_to_ns(period_s)));
+    viz_timer.async_wait([this](const boost::system::error_code& ec) {
+      if (!ec) on_viz_timer();
+    });
+  }
+  void accept_unix();
+  void accept_tcp();
+};
+
+// One client of the control socket: a line in, a line out, until it closes.
+class LiveServer::Impl::ControlSession : public std::enable_shared_from_this<ControlSession> {
+ public:
+  ControlSession(local_stream::socket socket, Impl& impl)
+      : socket_(std::move(socket)), buffer_(kMaxLineBytes), impl_(impl) {}
+  void read() {
+    asio::async_read_until(socket_, buffer_, '\n',
+                           [self = shared_from_this()](const boost::system::error_code& ec,
+                                                       std::size_t n) { self->on_line(ec, n); });
+  }
+
+ private:
+  void on_line(const boost::system::error_code& ec, std::size_t n) {
+    if (ec) return;  // closed, or a line longer than kMaxLineBytes
+    std::string line(asio::buffers_begin(buffer_.data()),
+                     asio::buffers_begin(buffer_.data()) + static_cast<std::ptrdiff_t>(n - 1));
+    buffer_.consume(n);
+    answer_ = impl_.handle_line(line) + "\n";
+    asio::async_write(
+        socket_, asio::buffer(answer_),
+        [self = shared_from_this()](const boost::system::error_code& wec, std::size_t) {
+          if (!wec) self->read();
+        });
+  }
+  local_stream::socket socket_;
+  asio::streambuf buffer_;
+  std::string answer_;
+  Impl& impl_;
+};
+
+// One Foxglove WebSocket client.
+class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(tcp::socket socket, Impl& impl) : ws_(std::move(socket)), impl_(impl) {}
+
+  void run(http::request<http::string_body> req) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& res) {
+      res.set(http::field::sec_websocket_protocol,
+              beast::string_view(kSubprotocol.data(), kSubprotocol.size()));
+      res.set(http::field::server, "coxswain");
+    }));
+    ws_.read_message_max(1 << 20);
+    ws_.async_accept(req, [self = shared_from_this()](const boost::system::error_code& ec) {
+      if (ec) return;
+      self->impl_.clients.push_back(self);
+      self->send(server_info(), false);
+      self->send(advertise(), false);
+      self->read();
+    });
+  }
+
+  [[nodiscard]] bool open() const { return open_; }
+  // Subscription ids of this client on `channel`.
+  void subscriptions_of(std::uint32_t channel, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (const auto& [sub, ch] : subs_) {
+      if (ch == channel) out.push_back(sub);
+    }
+  }
+  [[nodiscard]] bool subscribed(std::uint32_t channel) const {
+    for (const auto& s : subs_) {
+      if (s.second == channel) return true;
+    }
+    return false;
+  }
+
+  void send(std::string data, bool binary) {
+    if (!open_) return;
+    if (binary && queue_.size() >= kMaxQueuedFrames) return;  // slow client: drop viz frames
+    queue_.push_back({std::move(data), binary});
+    if (!writing_) write_next();
+  }
+
+ private:
+  struct Out {
+    std::string data;
+    bool binary;
+  };
+  void write_next() {
+    writing_ = true;
+    ws_.binary(queue_.front().binary);
+    ws_.async_write(asio::buffer(queue_.front().data),
+                    [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                      self->queue_.pop_front();
+                      if (ec) {
+                        self->open_ = false;
+                        return;
+                      }
+                      if (self->queue_.empty()) {
+                        self->writing_ = false;
+                      } else {
+                        self->write_next();
+                      }
+                    });
+  }
+  void read() {
+    ws_.async_read(buffer_,
+                   [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                     if (ec) {
+                       self->open_ = false;
+                       return;
+                     }
+                     if (self->ws_.got_text())
+                       self->on_text(beast::buffers_to_string(self->buffer_.data()));
+                     self->buffer_.consume(self->buffer_.size());
+                     self->read();
+                   });
+  }
+  void on_text(const std::string& text) {
+    const json msg = json::parse(text, nullptr, false);
+    if (!msg.is_object() || !msg.contains("op") || !msg["op"].is_string()) {
+      send(status_op(1, "not a JSON object with an op", json()).dump(), false);
+      return;
+    }
+    const std::string op = msg["op"].get<std::string>();
+    const json id = msg.contains("id") ? msg["id"] : json();
+    if (op == "subscribe" && msg.contains("subscriptions") && msg["subscriptions"].is_array()) {
+      for (const json& s : msg["subscriptions"]) {
+        if (!s.contains("id") || !s.contains("channelId") || !s["id"].is_number_unsigned() ||
+            !s["channelId"].is_number_unsigned()) {
+          continue;
+        }
+        const auto ch = s["channelId"].get<std::uint32_t>();
+        bool known = false;
+        for (const ChannelInfo& c : kChannels) known = known || c.id == ch;
+        if (!known) {
+          send(status_op(1, "no channel " + std::to_string(ch), json()).dump(), false);
+          continue;
+        }
+        subs_.emplace_back(s["id"].get<std::uint32_t>(), ch);
+      }
+    } else if (op == "unsubscribe" && msg.contains("subscriptionIds") &&
+               msg["subscriptionIds"].is_array()) {
+      for (const json& s : msg["subscriptionIds"]) {
+        if (!s.is_number_unsigned()) continue;
+        const auto sub = s.get<std::uint32_t>();
+        std::erase_if(subs_, [sub](const auto& e) { return e.first == sub; });
+      }
+    } else if (op == "getParameters") {
+      std::vector<std::string> names;
+      if (msg.contains("parameterNames") && msg["parameterNames"].is_array()) {
+        for (const json& n : msg["parameterNames"]) {
+          if (n.is_string()) names.push_back(n.get<std::string>());
+        }
+      }
+      send(impl_.parameter_values(names, id).dump(), false);
+    } else if (op == "setParameters" && msg.contains("parameters") &&
+               msg["parameters"].is_array()) {
+      std::vector<std::string> names;
+      for (const json& problem : impl_.set_parameters(msg["parameters"], id, names)) {
+        send(problem.dump(-1, ' ', false, json::error_handler_t::replace), false);
+      }
+      if (!id.is_null()) send(impl_.parameter_values(names, id).dump(), false);
+    } else {
+      send(status_op(1, "unsupported op '" + op + "'", json())
+               .dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
+    }
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  beast::flat_buffer buffer_;
+  std::deque<Out> queue_;
+  bool writing_ = false;
+  bool open_ = true;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> subs_;  // subscription id, channel id
+  Impl& impl_;
+};
+
+// One HTTP connection; hands itself over to a WsSession on an upgrade request.
+class LiveServer::Impl::HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, Impl& impl) : stream_(std::move(socket)), impl_(impl) {}
+  void read() {
+    parser_.emplace();
+    parser_->body_limit(kMaxBodyBytes);
+    stream_.expires_after(std::chrono::seconds(60));
+    http::async_read(stream_, buffer_, *parser_,
+                     [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                       self->on_read(ec);
+                     });
+  }
+
+ private:
+  void on_read(const boost::system::error_code& ec) {
+    if (ec) return;
+    if (websocket::is_upgrade(parser_->get())) {
+      stream_.expires_never();
+      std::make_shared<WsSession>(stream_.release_socket(), impl_)->run(parser_->release());
+      return;
+    }
+    response_ = impl_.handle_http(parser_->get());
+    http::async_write(
+        stream_, response_,
+        [self = shared_from_this()](const boost::system::error_code& wec, std::size_t) {
+          if (wec) return;
+          if (self->response_.keep_alive()) {
+            self->read();
+          } else {
+            boost::system::error_code ignored;
+            self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+          }
+        });
+  }
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  http::response<http::string_body> response_;
+  Impl& impl_;
+};
+
+void LiveServer::Impl::emit_log(fox::LogLevel level, const std::string& text) {
+  std::vector<std::uint32_t> subs;
+  std::string payload;
+  const core::TimeNs now = clock.now_ns();
+  for (const auto& weak : clients) {
+    const auto client = weak.lock();
+    if (!client || !client->open()) continue;
+    client->subscriptions_of(kLog, subs);
+    if (subs.empty()) continue;
+    if (payload.empty()) payload = fox::log_json(now, level, "coxswain.live", text);
+    for (std::uint32_t sub : subs) client->send(message_data(sub, now, payload), true);
+  }
+}
+
+void LiveServer::Impl::on_viz_timer() {
+  std::erase_if(clients, [](const std::weak_ptr<WsSession>& w) {
+    const auto c = w.lock();
+    return !c || !c->open();
+  });
+  const auto any_subscribed = [&](std::uint32_t channel) {
+    for (const auto& weak : clients) {
+      const auto c = weak.lock();
+      if (c && c->subscribed(channel)) return true;
+    }
+    return false;
+  };
+  std::vector<std::uint32_t> subs;
+  const auto broadcast = [&](std::uint32_t channel, core::TimeNs stamp_ns,
+                             const std::string& payload) {
+    for (const auto& weak : clients) {
+      const auto c = weak.lock();
+      if (!c) continue;
+      c->subscriptions_of(channel, subs);
+      for (std::uint32_t sub : subs) c->send(message_data(sub, stamp_ns, payload), true);
+    }
+  };
+  if (!clients.empty()) {
+    if (tick_slot.sequence() != sent_tick_seq && (any_subscribed(kTf) || any_subscribed(kScene))) {
+      const core::Sample<LiveTick> t = tick_slot.read();
+      sent_tick_seq = t.sequence;
+      if (any_subscribed(kTf))
+        broadcast(kTf, t.stamp_ns, fox::frame_transform_json(t.stamp_ns, t.value.viz));
+      if (any_subscribed(kScene)) {
+        broadcast(kScene, t.stamp_ns,
+                  fox::scene_update_json(t.stamp_ns, t.value.viz,
+                                         t.value.summary.status.state_path.view()));
+      }
+    }
+    if (store.lidar.sequence() != sent_scan_seq && any_subscribed(kScan)) {
+      store.lidar.read(*scan);
+      sent_scan_seq = scan->sequence;
+      broadcast(kScan, scan->stamp_ns, fox::laser_scan_json(scan->value));
+    }
+    if (store.gnss.sequence() != sent_fix_seq && any_subscribed(kFix)) {
+      const core::Sample<msg::GnssFix> fix = store.gnss.read();
+      sent_fix_seq = fix.sequence;
+      broadcast(kFix, fix.stamp_ns, fox::location_fix_json(fix.value));
+    }
+  }
+  arm_viz_timer();
+}
+
+void LiveServer::Impl::accept_unix() {
+  unix_acceptor.async_accept(
+      [this](const boost::system::error_code& ec, local_stream::socket socket) {
+        if (ec == asio::error::operation_aborted) return;
+        if (!ec) std::make_shared<ControlSession>(std::move(socket), *this)->read();
+        accept_unix();
+      });
+}
+
+void LiveServer::Impl::accept_tcp() {
+  tcp_acceptor.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
+    if (ec == asio::error::operation_aborted) return;
+    if (!ec) std::make_shared<HttpSession>(std::move(socket), *this)->read();
+    accept_tcp();
+  });
+}
+
+LiveServer::LiveServer(LiveOptions options, core::LatestStore& store, const core::Clock& clock)
+    : impl_(std::make_unique<Impl>(std::move(options), store, clock)) {}
+
+LiveServer::~LiveServer() { stop(); }
+
+bool LiveServer::start(std::string& error) {
+  Impl& m = *impl_;
+  if (m.started) return true;
+  if (!(m.options.viz_rate_hz > 0.0)) {
+    error = "viz_rate_hz must be > 0";
+    return false;
+  }
+  boost::system::error_code ec;
+  if (!m.options.socket_path.empty()) {
+    std::error_code fec;
+    std::filesystem::create_directories(m.options.socket_path.parent_path(), fec);
+    std::filesystem::remove(m.options.socket_path, fec);  // a stale socket of an earlier run
+    const local_stream::endpoint ep(m.options.socket_path.string());
+    if (m.unix_acceptor.open(ep.protocol(), ec) || m.unix_acceptor.bind(ep, ec) ||
+        m.unix_acceptor.listen(asio::socket_base::max_listen_connections, ec)) {
+      error = "control socket " + m.options.socket_path.string() + ": " + ec.message();
+      m.unix_acceptor.close(ec);
+      return false;
+    }
+    m.socket_bound = true;
+    ::chmod(m.options.socket_path.c_str(), 0660);  // owner and group (the operators) only
+  }
+  if (m.options.http_enabled) {
+    const asio::ip::address address = asio::ip::make_address(m.options.http_address, ec);
+    if (ec) {
+      error = "http_address '" + m.options.http_address + "': " + ec.message();
+      stop();
+      return false;
+    }
+    const tcp::endpoint ep(address, m.options.http_port);
+    if (m.tcp_acceptor.open(ep.protocol(), ec) ||
+        m.tcp_acceptor.set_option(asio::socket_base::reuse_address(true), ec) ||
+        m.tcp_acceptor.bind(ep, ec) ||
+        m.tcp_acceptor.listen(asio::socket_base::max_listen_connections, ec)) {
+      error = "live view on " + m.options.http_address + ":" + std::to_string(m.options.http_port) +
+              ": " + ec.message();
+      m.tcp_acceptor.close(ec);
+      stop();
+      return false;
+    }
+    m.port.store(m.tcp_acceptor.local_endpoint(ec).port());
+  }
+  if (m.options.initial_target_colour != msg::Colour::kUnknown ||
+      m.options.initial_target_shape != msg::Shape::kUnknown) {
+    // Before the thread exists, so the control thread stays the slot's only writer.
+    m.publish_operator(m.operator_state.apply(
+        {CommandKind::kTarget, m.options.initial_target_colour, m.options.initial_target_shape},
+        m.clock.now_ns()));
+  }
+  if (m.unix_acceptor.is_open()) m.accept_unix();
+  if (m.tcp_acceptor.is_open()) m.accept_tcp();
+  m.arm_viz_timer();
+  m.started = true;
+  m.thread = std::thread([&m] { m.ioc.run(); });
+  return true;
+}
+
+void LiveServer::stop() {
+  Impl& m = *impl_;
+  if (m.thread.joinable()) {
+    m.ioc.stop();
+    m.thread.join();
+  }
+  boost::system::error_code ec;
+  m.unix_acceptor.close(ec);
+  m.tcp_acceptor.close(ec);
+  if (m.socket_bound) {
+    std::error_code fec;
+    std::filesystem::remove(m.options.socket_path, fec);
+    m.socket_bound = false;
+  }
+  m.port.store(0);
+  m.started = false;
+}
+
+std::uint16_t LiveServer::http_port() const { return impl_->port.load(); }
+
+void LiveServer::publish_tick(const LiveTick& tick, core::TimeNs now_ns) {
+  impl_->tick_slot.publish(tick, now_ns);
+}
+
+void LiveServer::publish_parameters(const mission::TunableParameters& in_force,
+                                    core::TimeNs now_ns) {
+  impl_->in_force_slot.publish(in_force, now_ns);
+}
+
+bool LiveServer::take_parameters(mission::TunableParameters& out) {
+  Impl& m = *impl_;
+  const std::uint64_t seq = m.requested_slot.sequence();
+  if (seq == m.consumed_request) return false;
+  const core::Sample<mission::TunableParameters> s = m.requested_slot.read();
+  m.consumed_request = s.sequence;
+  out = s.value;
+  return true;
+}
+
+}  // namespace coxswain::live

@@ -1,0 +1,310 @@
+// SPDX-License-Identifier: Apache-2.0
+// LiveServer over its real sockets: the control socket (line commands), the status page and its
+// token-protected API over HTTP, and the Foxglove WebSocket protocol (serverInfo, advertise,
+// subscribe, messageData, parameters), with a thread standing in for the tick thread.
+#include "coxswain/live/live_server.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "coxswain/core/clock.hpp"
+#include "coxswain/live/control_client.hpp"
+
+namespace coxswain::live {
+namespace {
+
+namespace asio = boost::asio;
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = asio::ip::tcp;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr const char* kToken = "correct-horse";
+
+class LiveServerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("coxswain_live_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    store_ = std::make_unique<core::LatestStore>();
+    LiveOptions o;
+    o.socket_path = dir_ / "control.sock";
+    o.http_port = 0;
+    o.viz_rate_hz = 20.0;
+    o.token = kToken;
+    o.initial_target_colour = msg::Colour::kRed;
+    o.initial_target_shape = msg::Shape::kTriangle;
+    server_ = std::make_unique<LiveServer>(o, *store_, clock_);
+    std::string error;
+    ASSERT_TRUE(server_->start(error)) << error;
+    ASSERT_NE(server_->http_port(), 0);
+  }
+  void TearDown() override {
+    stop_tick();
+    server_.reset();
+    fs::remove_all(dir_);
+  }
+
+  // Stands in for the daemon's tick thread: publishes ticks, applies parameter requests.
+  void start_tick() {
+    tick_thread_ = std::thread([this] {
+      LiveTick t;
+      mission::TunableParameters in_force;
+      server_->publish_parameters(in_force, clock_.now_ns());
+      std::uint64_t i = 0;
+      while (!stop_.load()) {
+        mission::TunableParameters requested;
+        if (server_->take_parameters(requested)) {
+          in_force = requested;
+          server_->publish_parameters(in_force, clock_.now_ns());
+        }
+        t.summary.tick_index = ++i;
+        t.summary.status.state_path.assign("wait_for_start");
+        t.viz.pose_valid = true;
+        t.viz.north_m = 1.0;
+        t.viz.east_m = 2.0;
+        server_->publish_tick(t, clock_.now_ns());
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+    });
+  }
+  void stop_tick() {
+    stop_.store(true);
+    if (tick_thread_.joinable()) tick_thread_.join();
+  }
+
+  std::string ctl(const std::string& line) {
+    std::string error;
+    const auto answer = send_control_command(dir_ / "control.sock", line, error);
+    EXPECT_TRUE(answer) << error;
+    return answer.value_or("");
+  }
+
+  http::response<http::string_body> request(http::verb verb, const std::string& target,
+                                            const std::string& token = "",
+                                            const std::string& body = "") {
+    asio::io_context ioc;
+    beast::tcp_stream stream(ioc);
+    stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
+    http::request<http::string_body> req{verb, target, 11};
+    req.set(http::field::host, "127.0.0.1");
+    if (!token.empty()) req.set("X-Coxswain-Token", token);
+    req.body() = body;
+    req.prepare_payload();
+    http::write(stream, req);
+    beast::flat_buffer buffer;
+    http::response<http::string_body> res;
+    http::read(stream, buffer, res);
+    return res;
+  }
+
+  fs::path dir_;
+  core::SteadyClock clock_;
+  std::unique_ptr<core::LatestStore> store_;
+  std::unique_ptr<LiveServer> server_;
+  std::thread tick_thread_;
+  std::atomic<bool> stop_{false};
+};
+
+TEST_F(LiveServerTest, ControlSocketCommandsReachTheStore) {
+  struct stat st {};
+  ASSERT_EQ(::stat((dir_ / "control.sock").c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777U, 0660U);
+  // The initial target (--target) is published at start.
+  EXPECT_EQ(store_->operator_input.read().value.target_colour, msg::Colour::kRed);
+
+  EXPECT_TRUE(answer_ok(ctl("start")));
+  EXPECT_EQ(store_->operator_input.read().value.start_count, 1U);
+  EXPECT_TRUE(answer_ok(ctl("hold")));
+  EXPECT_TRUE(store_->operator_input.read().value.hold);
+  EXPECT_TRUE(answer_ok(ctl("resume")));
+  EXPECT_FALSE(store_->operator_input.read().value.hold);
+  EXPECT_EQ(store_->operator_input.read().value.hold_count, 2U);
+  EXPECT_TRUE(answer_ok(ctl("target blue circle")));
+  EXPECT_EQ(store_->operator_input.read().value.target_shape, msg::Shape::kCircle);
+
+  const std::string bad = ctl("launch");
+  EXPECT_FALSE(answer_ok(bad));
+  EXPECT_NE(bad.find("unknown command"), std::string::npos);
+
+  const json status = json::parse(ctl("status"));
+  EXPECT_EQ(status["state_path"], "starting");  // no tick yet
+  EXPECT_EQ(status["operator"]["start_count"], 1);
+  EXPECT_EQ(status["operator"]["target_colour"], "blue");
+
+  // Several commands on one connection, answered in order.
+  asio::io_context ioc;
+  asio::local::stream_protocol::socket s(ioc);
+  s.connect(asio::local::stream_protocol::endpoint((dir_ / "control.sock").string()));
+  asio::write(s, asio::buffer(std::string("start\nstart\nstatus\n")));
+  asio::streambuf buf;
+  std::string lines[3];
+  for (auto& l : lines) {
+    asio::read_until(s, buf, '\n');
+    std::istream is(&buf);
+    std::getline(is, l);
+  }
+  EXPECT_EQ(json::parse(lines[2])["operator"]["start_count"], 3);
+}
+
+TEST_F(LiveServerTest, StatusPageAndTokenProtectedButtons) {
+  start_tick();
+  const auto page = request(http::verb::get, "/");
+  EXPECT_EQ(page.result(), http::status::ok);
+  EXPECT_NE(page.body().find("<!DOCTYPE html>"), std::string::npos);
+  EXPECT_NE(page.body().find("/api/"), std::string::npos);
+
+  for (int i = 0; i < 200; ++i) {
+    const auto st = request(http::verb::get, "/api/status");
+    ASSERT_EQ(st.result(), http::status::ok);
+    if (json::parse(st.body())["state_path"] == "wait_for_start") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(json::parse(request(http::verb::get, "/api/status").body())["state_path"],
+            "wait_for_start");
+
+  EXPECT_EQ(request(http::verb::post, "/api/start").result(), http::status::unauthorized);
+  EXPECT_EQ(request(http::verb::post, "/api/start", "correct-horsE").result(),
+            http::status::unauthorized);
+  EXPECT_EQ(store_->operator_input.read().value.start_count, 0U);
+  EXPECT_EQ(request(http::verb::post, "/api/start", kToken).result(), http::status::ok);
+  EXPECT_EQ(store_->operator_input.read().value.start_count, 1U);
+  EXPECT_EQ(request(http::verb::post, "/api/hold", kToken).result(), http::status::ok);
+  EXPECT_TRUE(store_->operator_input.read().value.hold);
+  EXPECT_EQ(request(http::verb::post, "/api/target", kToken,
+                    R"({"colour": "green", "shape": "rectangle"})")
+                .result(),
+            http::status::ok);
+  EXPECT_EQ(store_->operator_input.read().value.target_colour, msg::Colour::kGreen);
+  EXPECT_EQ(request(http::verb::post, "/api/target", kToken, "not json").result(),
+            http::status::bad_request);
+  EXPECT_EQ(request(http::verb::get, "/api/start", kToken).result(),
+            http::status::method_not_allowed);
+  EXPECT_EQ(request(http::verb::get, "/nowhere").result(), http::status::not_found);
+}
+
+TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
+  start_tick();
+  asio::io_context ioc;
+  websocket::stream<tcp::socket> ws(ioc);
+  ws.next_layer().connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
+  ws.set_option(websocket::stream_base::decorator([](websocket::request_type& req) {
+    req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
+  }));
+  websocket::response_type handshake;
+  ws.handshake(handshake, "127.0.0.1", "/");
+  EXPECT_EQ(handshake[http::field::sec_websocket_protocol], "foxglove.websocket.v1");
+
+  beast::flat_buffer buf;
+  const auto next = [&]() {
+    buf.clear();
+    ws.read(buf);
+    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
+  };
+  const auto info = json::parse(next().second);
+  EXPECT_EQ(info["op"], "serverInfo");
+  EXPECT_EQ(info["capabilities"], json::array({"parameters"}));
+  const auto adv = json::parse(next().second);
+  ASSERT_EQ(adv["op"], "advertise");
+  std::uint32_t tf_channel = 0;
+  for (const auto& c : adv["channels"]) {
+    EXPECT_EQ(c["encoding"], "json");
+    EXPECT_EQ(c["schemaEncoding"], "jsonschema");
+    if (c["topic"] == "/tf") tf_channel = c["id"];
+  }
+  ASSERT_NE(tf_channel, 0U);
+  ws.text(true);
+  ws.write(asio::buffer(
+      json{{"op", "subscribe"}, {"subscriptions", {{{"id", 7}, {"channelId", tf_channel}}}}}
+          .dump()));
+  auto [binary, frame] = next();
+  ASSERT_TRUE(binary);
+  ASSERT_GT(frame.size(), 13U);
+  EXPECT_EQ(frame[0], 0x01);
+  EXPECT_EQ(static_cast<unsigned char>(frame[1]), 7U);  // subscription id, little-endian
+  const auto tf = json::parse(frame.substr(13));
+  EXPECT_EQ(tf["parent_frame_id"], "map");
+  EXPECT_DOUBLE_EQ(tf["translation"]["x"].get<double>(), 2.0);  // east
+
+  ws.write(asio::buffer(json{{"op", "unsubscribe"}, {"subscriptionIds", {7}}}.dump()));
+  ws.write(
+      asio::buffer(json{{"op", "setParameters"},
+                        {"id", "s1"},
+                        {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.07}}}}}
+                       .dump()));
+  // Skip frames still in flight from before the unsubscribe.
+  json reply;
+  do {
+    auto [b, text] = next();
+    if (!b) reply = json::parse(text);
+  } while (reply.is_null());
+  EXPECT_EQ(reply["op"], "parameterValues");
+  EXPECT_EQ(reply["id"], "s1");
+  // The tick stand-in applies it; getParameters reports what is in force.
+  bool applied = false;
+  for (int i = 0; i < 200 && !applied; ++i) {
+    ws.write(asio::buffer(
+        json{{"op", "getParameters"}, {"id", "g"}, {"parameterNames", {"heading_pid.kp_per_deg"}}}
+            .dump()));
+    json values;
+    do {
+      auto [b, text] = next();
+      if (!b) values = json::parse(text);
+    } while (values.is_null());
+    ASSERT_EQ(values["op"], "parameterValues");
+    applied = values["parameters"][0]["value"].get<double>() == 0.07;
+    if (!applied) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_TRUE(applied);
+
+  ws.write(asio::buffer(json{{"op", "setParameters"},
+                             {"id", "s2"},
+                             {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 9.0}}}}}
+                            .dump()));
+  json st;
+  do {
+    auto [b, text] = next();
+    if (!b) st = json::parse(text);
+  } while (st.is_null());
+  EXPECT_EQ(st["op"], "status");
+  EXPECT_EQ(st["level"], 2);
+  EXPECT_NE(st["message"].get<std::string>().find("kp_per_deg"), std::string::npos);
+  ws.close(websocket::close_code::normal);
+}
+
+TEST(LiveServerBind, ABusyPortIsReportedNotFatal) {
+  core::SteadyClock clock;
+  auto store = std::make_unique<core::LatestStore>();
+  LiveOptions a;
+  a.http_port = 0;
+  LiveServer first(a, *store, clock);
+  std::string error;
+  ASSERT_TRUE(first.start(error)) << error;
+  LiveOptions b;
+  b.http_port = first.http_port();
+  LiveServer second(b, *store, clock);
+  EXPECT_FALSE(second.start(error));
+  EXPECT_NE(error.find("live view"), std::string::npos) << error;
+  b.http_address = "not-an-address";
+  LiveServer third(b, *store, clock);
+  EXPECT_FALSE(third.start(error));
+}
+
+}  // namespace
+}  // namespace coxswain::live
