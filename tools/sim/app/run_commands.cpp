@@ -130,6 +130,9 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   run->add_flag("--no-camera", no_camera, "no camera frames");
   run->add_flag("--baseline", baseline, "the documents' own algorithms (2022 naive, bearing)");
   run->add_option("--max-time", max_time_s, "hard stop, simulated seconds");
+  static std::string record_file;
+  run->add_option("--record", record_file,
+                  "write the flight recording (MCAP, as the daemon's run.mcap) to this file");
   run->add_flag("--disturbances", run_disturbances,
                 "the batch's default disturbances for this seed (reproduces a batch run)");
   run->callback([&exit_code] {
@@ -150,6 +153,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
     options.seed = seed;
     options.camera = !no_camera;
     options.max_time_s = max_time_s;
+    options.recording_file = record_file;
     if (!target_colour.empty()) {
       const auto c = parse_colour(target_colour);
       if (!c) {

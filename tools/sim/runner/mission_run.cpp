@@ -2,11 +2,14 @@
 #include "sim/runner/mission_run.hpp"
 
 #include <cmath>
+#include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "sim/runner/realistic_sensors.hpp"
+#include "sim/runner/recording.hpp"
 
 namespace coxswain::sim::runner {
 
@@ -85,6 +88,17 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   ro.max_time_s = options.max_time_s;
   ro.failsafe_ms = static_cast<std::uint16_t>(config.devices.arduino.failsafe_ms);
   LockstepRunner runner(course, config.boat, ro, &suite, &pilot);
+  std::unique_ptr<RunRecorder> recorder;
+  if (!options.recording_file.empty()) {
+    recorder = std::make_unique<RunRecorder>(options.recording_file, config, runner.store(),
+                                             runner.clock(), course_json(course.world),
+                                             "coxswain-sim lockstep");
+    if (!recorder->start()) {
+      throw std::runtime_error("cannot record to " + options.recording_file + ": " +
+                               recorder->error());
+    }
+    pilot.set_recorder(recorder.get());
+  }
 
   MissionRunResult r;
   r.hold_delay_s.assign(options.outages.size(), -1.0);
@@ -109,6 +123,7 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
     suite.set_lidar_publishing(!lidar_off);
   }
   r.outcome = runner.run();  // already over: collects the outcome
+  if (recorder) (void)recorder->stop();
   r.status = pilot.status();
   r.transitions = pilot.transitions();
   if (options.record_path) r.path = runner.path();

@@ -43,6 +43,8 @@ struct MissionRunOptions {
   msg::Shape target_shape = msg::Shape::kUnknown;
   std::vector<SensorOutage> outages;
   bool record_path = true;
+  /// Not empty: write the flight recording the daemon writes (RunRecorder) to this file.
+  std::string recording_file;
 };
 
 struct MissionRunResult {
