@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "coxswain/drivers/detail_text.hpp"
+
 namespace coxswain::drivers::myahrs {
 
 namespace {
@@ -43,12 +45,7 @@ MyahrsSession::MyahrsSession(const config::ImuDeviceConfig& config,
 }
 
 void MyahrsSession::set_detail(std::string_view a, std::string_view b) {
-  // Copied byte by byte: an empty view may have a null data() (no memcpy from null).
-  const std::size_t na = std::min(a.size(), detail_.size() - 1);
-  std::copy_n(a.begin(), na, detail_.begin());
-  const std::size_t nb = std::min(b.size(), detail_.size() - 1 - na);
-  std::copy_n(b.begin(), nb, detail_.begin() + static_cast<std::ptrdiff_t>(na));
-  detail_[na + nb] = '\0';
+  set_detail_text(detail_, a, b);
 }
 
 void MyahrsSession::on_open(DeviceLink& link, core::TimeNs now_ns) {
