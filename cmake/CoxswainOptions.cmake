@@ -18,3 +18,11 @@ if(COXSWAIN_SANITIZE)
   add_compile_options(-fsanitize=${_coxswain_san} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${_coxswain_san})
 endif()
+
+if(COXSWAIN_BUILD_FUZZ)
+  # Every library in a fuzz build carries libFuzzer's coverage hooks and the sanitizers, so a
+  # fuzz target gets feedback from (and catches faults in) the code it links, not just its own
+  # source file. The fuzz targets themselves add the fuzzer main (tests/fuzz).
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
