@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "task_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "coxswain/core/angles.hpp"
+
+namespace coxswain::mission::detail {
+
+ReasonText reason_printf(const char* fmt, ...) {
+  ReasonText out;
+  va_list args;
+  va_start(args, fmt);
+  (void)std::vsnprintf(out.chars.data(), out.chars.size(), fmt, args);
+  va_end(args);
+  return out;
+}
+
+msg::LedColour led_for(msg::Colour colour) {
+  switch (colour) {
+    case msg::Colour::kRed:
+      return msg::LedColour::kRed;
+    case msg::Colour::kGreen:
+      return msg::LedColour::kGreen;
+    case msg::Colour::kBlue:
+      return msg::LedColour::kBlue;
+    case msg::Colour::kYellow:
+    case msg::Colour::kOrange:
+      return msg::LedColour::kYellow;
+    case msg::Colour::kPurple:
+      return msg::LedColour::kPurple;
+    case msg::Colour::kWhite:
+      return msg::LedColour::kWhite;
+    case msg::Colour::kBlack:
+    case msg::Colour::kUnknown:
+      break;
+  }
+  return msg::LedColour::kOff;
+}
+
+std::optional<double> range_near(const perception::RangeProfile& profile, double bearing_deg,
+                                 double window_deg) {
+  const double w = static_cast<double>(profile.bin_width_deg);
+  const std::size_t bins = std::min<std::size_t>(profile.bin_count, profile.closest_range_m.size());
+  if (!(w > 0.0) || bins == 0) return std::nullopt;
+  std::optional<double> best;
+  for (std::size_t i = 0; i < bins; ++i) {
+    const double centre_deg = -180.0 + (static_cast<double>(i) + 0.5) * w;
+    if (std::abs(core::angle_diff_deg(centre_deg, bearing_deg)) > window_deg + 0.5 * w) continue;
+    const float r = profile.closest_range_m[i];
+    if (!(r > 0.0F) || r >= perception::RangeProfile::kNoReturn) continue;
+    if (!best || static_cast<double>(r) < *best) best = static_cast<double>(r);
+  }
+  return best;
+}
+
+void check(const std::optional<std::string>& problem) {
+  if (problem) throw std::invalid_argument(*problem);
+}
+
+// Largest detection of `colour` (any shape) in a frame, or null.
+const msg::Detection* largest_of(const msg::CameraDetections& cam, msg::Colour colour) {
+  const msg::Detection* best = nullptr;
+  const std::uint32_t n = std::min<std::uint32_t>(cam.count, msg::CameraDetections::kMaxDetections);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const msg::Detection& d = cam.detections[i];
+    if (d.colour != colour) continue;
+    if (best == nullptr || d.area_px > best->area_px) best = &d;
+  }
+  return best;
+}
+
+ReasonText need_position_heading(const TaskContext& ctx) {
+  if (!ctx.position_valid) return reason_printf("no usable GNSS fix");
+  if (!ctx.heading_valid) return reason_printf("no heading");
+  return {};
+}
+
+Route to_route(const std::vector<core::GeoPoint>& geo, const core::LocalFrame& frame) {
+  Route r;
+  for (const auto& g : geo) {
+    if (r.count >= r.points.size()) break;
+    r.points[r.count++] = frame.to_nav(g);
+  }
+  return r;
+}
+
+ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m) {
+  return reason_printf("%s waypoint %zu (%.1f m)",
+                       g.event == guidance::WaypointEvent::kArrived ? "arrived at" : "missed",
+                       g.event_index + 1, dist_m);
+}
+
+std::unique_ptr<Task> make_task(const config::TaskConfig& task, const config::MissionConfig& m,
+                                const config::DevicesConfig& devices,
+                                const core::LocalFrame& frame) {
+  (void)devices;
+  switch (task.type) {
+    case config::TaskType::kHopping:
+      return make_hopping_task(task, m, frame);
+    case config::TaskType::kObstacleCourse:
+      return make_avoidance_task(task, m, frame, false);
+    case config::TaskType::kCourse1:
+      return make_avoidance_task(task, m, frame, true);
+    case config::TaskType::kCourse2:
+      return make_course2_task(task, m, frame);
+    case config::TaskType::kDocking:
+      if (task.docking_style == config::DockingStyle::kCourse3) return make_course3_task(task, m);
+      return make_docking2022_task(task, m, frame);
+  }
+  throw std::invalid_argument("unknown task type");
+}
+
+}  // namespace coxswain::mission::detail

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Internal to the mission core: pieces the task implementations share (route following, checks)
+// and the constructor of each task, one source file per task.
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "coxswain/guidance/waypoint_follower.hpp"
+#include "tasks.hpp"
+
+namespace coxswain::mission::detail {
+
+/// Throws std::invalid_argument with the problem when there is one (engine parameter checks).
+void check(const std::optional<std::string>& problem);
+
+/// Largest detection of `colour` (any shape) in a frame, or null.
+const msg::Detection* largest_of(const msg::CameraDetections& cam, msg::Colour colour);
+
+/// Refusal reason when position or heading is not usable; empty when both are.
+ReasonText need_position_heading(const TaskContext& ctx);
+
+// Waypoints of a task in the navigation frame (fixed storage).
+struct Route {
+  std::array<core::NavPoint, guidance::WaypointFollower::kMaxWaypoints> points{};
+  std::size_t count = 0;
+  [[nodiscard]] std::span<const core::NavPoint> span() const { return {points.data(), count}; }
+};
+
+Route to_route(const std::vector<core::GeoPoint>& geo, const core::LocalFrame& frame);
+
+// Shared waypoint-following step: follower, viz, counters, phase names. Returns the guidance.
+class RouteLeg {
+ public:
+  RouteLeg(const guidance::WaypointFollowerParams& p, Route route)
+      : params_(p), follower_(p), route_(route) {}
+
+  [[nodiscard]] bool start(core::NavPoint position) {
+    leg_start_ = position;
+    return follower_.set_route(route_.span());
+  }
+  guidance::WaypointGuidance update(const TaskContext& ctx) {
+    const guidance::WaypointGuidance g = follower_.update(ctx.antenna, ctx.now_ns);
+    if (g.event == guidance::WaypointEvent::kArrived) {
+      ++ctx.status->waypoints_arrived;
+      leg_start_ = route_.points[g.event_index];
+    } else if (g.event == guidance::WaypointEvent::kMissed) {
+      ++ctx.status->waypoints_missed;
+      leg_start_ = route_.points[g.event_index];
+    }
+    if (!g.finished) {
+      VizFrame& v = *ctx.viz;
+      v.has_goal = true;
+      v.goal = g.target;
+      v.arrival_radius_m = params_.arrival_radius_m;
+      v.active_waypoint = static_cast<std::int32_t>(g.index);
+      v.has_leg = true;
+      v.leg_start = leg_start_;
+      v.cross_track_m = g.cross_track_m;
+      v.distance_to_go_m = g.distance_to_go_m;
+    }
+    return g;
+  }
+  [[nodiscard]] std::size_t size() const { return route_.count; }
+  [[nodiscard]] core::NavPoint point(std::size_t i) const { return route_.points[i]; }
+
+ private:
+  guidance::WaypointFollowerParams params_;
+  guidance::WaypointFollower follower_;
+  Route route_;
+  core::NavPoint leg_start_;
+};
+
+ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m);
+
+std::unique_ptr<Task> make_hopping_task(const config::TaskConfig& t, const config::MissionConfig& m,
+                                        const core::LocalFrame& frame);
+/// The 2022 obstacle course, or 2026 course 1 when `course1` (then the turn to find the buoy).
+std::unique_ptr<Task> make_avoidance_task(const config::TaskConfig& t,
+                                          const config::MissionConfig& m,
+                                          const core::LocalFrame& frame, bool course1);
+std::unique_ptr<Task> make_course2_task(const config::TaskConfig& t, const config::MissionConfig& m,
+                                        const core::LocalFrame& frame);
+std::unique_ptr<Task> make_docking2022_task(const config::TaskConfig& t,
+                                            const config::MissionConfig& m,
+                                            const core::LocalFrame& frame);
+std::unique_ptr<Task> make_course3_task(const config::TaskConfig& t,
+                                        const config::MissionConfig& m);
+
+}  // namespace coxswain::mission::detail
