@@ -104,6 +104,9 @@ void read_engines(MapReader& root, MissionConfig& mission) {
   if (auto m = root.map("navigation")) {
     auto& n = mission.navigation;
     n.heading_filter_tau_s = m->get("heading_filter_tau_s", n.heading_filter_tau_s, {0.0, 10.0});
+    n.position_gain = m->get("position_gain", n.position_gain, {0.01, 1.0});
+    n.start_lever_arm = m->get("start_lever_arm", n.start_lever_arm);
+    n.start_drift = m->get("start_drift", n.start_drift);
     m->finish();
   }
   if (auto m = root.map("gps_calibration")) {
@@ -621,6 +624,9 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   }
   begin(out, "navigation", true);
   kv(out, "heading_filter_tau_s", m.navigation.heading_filter_tau_s);
+  kv(out, "position_gain", m.navigation.position_gain);
+  kv(out, "start_lever_arm", m.navigation.start_lever_arm);
+  kv(out, "start_drift", m.navigation.start_drift);
   out << YAML::EndMap;
   const auto& g = m.gps_calibration;
   begin(out, "gps_calibration", true);

@@ -15,6 +15,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
 #include "tasks.hpp"
 
@@ -111,6 +112,7 @@ struct MissionCore::Impl {
         ramp({c.mission.speed.rise_per_s, c.mission.speed.fall_per_s}),
         heading_filter({c.mission.navigation.heading_filter_tau_s}),
         calibration(c.mission.gps_calibration, core::NavPoint{}),
+        position_filter({c.mission.navigation.position_gain}),
         clusterer(c.mission.clustering) {
     if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
     if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
@@ -165,21 +167,43 @@ struct MissionCore::Impl {
       gnss_seq = s.gnss.sequence;
       fix_usable = s.gnss.value.usable();
       if (fix_usable) {
-        raw_antenna = frame.to_nav({s.gnss.value.lat_deg, s.gnss.value.lon_deg, 0.0});
+        const core::NavPoint fix = frame.to_nav({s.gnss.value.lat_deg, s.gnss.value.lon_deg, 0.0});
+        std::optional<core::NavPoint> vel;
+        if (s.gnss.value.velocity_valid) {
+          vel = core::NavPoint{s.gnss.value.vel_north_mps, s.gnss.value.vel_east_mps};
+        }
+        position_filter.add_fix(fix, s.gnss.stamp_ns, vel);
         has_fix = true;
-        if (top == Top::kWaitForStart && m.calibrate_gps_at_start) calibration.add(raw_antenna);
+        if (top == Top::kWaitForStart && m.calibrate_gps_at_start) {
+          // The known start point is the body origin; the antenna sits at its mount behind it,
+          // so the fix is compared with the start point moved to the antenna's place.
+          // It may also drift off the point with the current while it waits: the fix is taken
+          // back by the distance the receiver's velocity says it moved since the first fix.
+          core::NavPoint lever;
+          core::NavPoint drift;
+          if (m.navigation.start_lever_arm) lever = mount_offset();
+          if (m.navigation.start_drift) drift = position_filter.travelled_m();
+          calibration.add({fix.north_m - lever.north_m - drift.north_m,
+                           fix.east_m - lever.east_m - drift.east_m});
+        }
       }
     }
     position_valid = gnss_fresh && fix_usable && has_fix;
+    if (has_fix) raw_antenna = position_filter.position_at(now);
     update_pose();
+  }
+
+  /// The antenna's offset from the body origin in the navigation frame at the current heading.
+  [[nodiscard]] core::NavPoint mount_offset() const {
+    return core::body_to_nav(core::NavPose{{0.0, 0.0}, heading_deg},
+                             {gnss_mount.x_m, gnss_mount.y_m});
   }
 
   void update_pose() {
     antenna = offset.apply(raw_antenna);
     // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
-    const core::NavPoint mount_offset =
-        core::body_to_nav(core::NavPose{{0.0, 0.0}, heading_deg}, {gnss_mount.x_m, gnss_mount.y_m});
-    pose.position = {antenna.north_m - mount_offset.north_m, antenna.east_m - mount_offset.east_m};
+    const core::NavPoint lever = mount_offset();
+    pose.position = {antenna.north_m - lever.north_m, antenna.east_m - lever.east_m};
     pose.heading_deg = heading_deg;
   }
 
@@ -555,6 +579,7 @@ struct MissionCore::Impl {
   control::RateLimiter ramp;
   control::AngleLowPass heading_filter;
   guidance::GpsCalibration calibration;
+  guidance::PositionFilter position_filter;
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
   perception::RangeProfile profile;

@@ -207,6 +207,15 @@ struct DockingConfig {
 /// Navigation estimate (inside the core).
 struct NavigationConfig {
   double heading_filter_tau_s = 0.1;  // wrap-safe low-pass of the IMU heading
+  /// Weight of each GNSS fix against the estimate dead-reckoned with the receiver's velocity
+  /// (guidance::PositionFilter); 1 = the raw fixes, held between fixes.
+  double position_gain = 0.3;
+  /// The start point marks the body origin (the bow reference), not the antenna: remove the
+  /// antenna's mount offset before the GPS offset is taken. false = the 2022 code (off by it).
+  bool start_lever_arm = true;
+  /// The boat drifts off the start point while it waits: take each calibration fix back by the
+  /// distance the receiver's velocity says the boat moved since the first fix.
+  bool start_drift = true;
   /// True heading of the course frame's 0 deg; empty = the heading when the mission starts.
   std::optional<double> course_zero_deg;
 };

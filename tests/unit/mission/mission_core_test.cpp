@@ -117,6 +117,41 @@ TEST(MissionWaitForStart, GpsCalibrationRemovesTheReceiverBias) {
   EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 1e-6);
 }
 
+TEST(MissionWaitForStart, CalibrationTakesTheStartPointAsTheBodyOriginNotTheAntenna) {
+  config::Configuration c = hopping_config();
+  c.mission.calibrate_gps_at_start = true;
+  c.boat.mounts.gnss.x_m = -0.6;  // antenna mid-length, 0.6 m behind the body origin
+  auto rig = std::make_unique<Rig>(c);
+  // Bow on the start point, heading north: the antenna is at (-0.6, 0); the receiver adds a
+  // bias of 6 m north, 3 m west.
+  rig->position = {-0.6 + 6.0, -3.0};
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.started; }, 6.0));
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 1e-6);
+  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 1e-6);
+  rig->tick();
+  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 1e-6);
+  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 1e-6);
+}
+
+TEST(MissionWaitForStart, CalibrationFollowsABoatDriftingOffTheStartPoint) {
+  config::Configuration c = hopping_config();
+  c.mission.calibrate_gps_at_start = true;
+  auto rig = std::make_unique<Rig>(c);
+  // The current carries the waiting boat west at 0.2 m/s; the receiver (bias 2 m north) reports
+  // that velocity. The offset must still be the bias, not the bias plus half the drift.
+  const core::NavPoint bias{2.0, 0.0};
+  rig->gnss_velocity = core::NavPoint{0.0, -0.2};
+  core::NavPoint truth{0.0, 0.0};
+  for (int k = 0; k < 400 && !rig->out.status.started; ++k) {
+    rig->position = {truth.north_m + bias.north_m, truth.east_m + bias.east_m};
+    rig->tick();
+    truth.east_m -= 0.2 * core::ns_to_sec(kTickNs);
+  }
+  ASSERT_TRUE(rig->out.status.started);
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 2.0, 1e-6);
+  EXPECT_NEAR(rig->out.status.gps_offset_east_m, 0.0, 0.03);
+}
+
 // ---- refusal --------------------------------------------------------------------------------
 
 TEST(MissionRefusal, NoGnssFixRefusesEntryUntilAFixArrives) {

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -92,6 +93,11 @@ class Rig {
     s.value.lon_deg = g.lon_deg;
     s.value.fix_ok = usable;
     s.value.fix_type = usable ? msg::FixType::k3D : msg::FixType::kNoFix;
+    s.value.velocity_valid = gnss_velocity.has_value();
+    if (gnss_velocity) {
+      s.value.vel_north_mps = gnss_velocity->north_m;
+      s.value.vel_east_mps = gnss_velocity->east_m;
+    }
     s.value.stamp_ns = now;
     s.stamp_ns = now;
     ++s.sequence;
@@ -244,6 +250,7 @@ class Rig {
   bool live_imu = true;
   bool live_gnss = true;
   bool gnss_usable = true;
+  std::optional<core::NavPoint> gnss_velocity;  // reported with each fix when set
   bool live_lidar = true;
   bool live_arduino = true;
   bool move = false;

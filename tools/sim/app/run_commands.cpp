@@ -65,6 +65,10 @@ bool load_common(const Files& files, config::Configuration& config,
 void apply_baseline(config::MissionConfig& m) {
   m.avoidance.strategy = guidance::Strategy::kSelectionNaive2022;
   m.waypoints.line_following = false;
+  // The documents took each raw fix as the position and the start point as the antenna's place.
+  m.navigation.position_gain = 1.0;
+  m.navigation.start_lever_arm = false;
+  m.navigation.start_drift = false;
 }
 
 void print_summary_line(const std::string& label, const runner::MissionRunResult& r) {

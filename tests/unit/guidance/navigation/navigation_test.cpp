@@ -11,6 +11,7 @@
 #include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
 #include "coxswain/guidance/line_follow.hpp"
+#include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 
 namespace coxswain::guidance {
@@ -158,6 +159,82 @@ TEST(GpsCalibration, RefusesTooFewFixesWideSpreadAndHugeOffset) {
   for (int i = 0; i < 30; ++i) far.add({60, 0});
   EXPECT_EQ(far.result().status, CalibrationStatus::kOffsetTooLarge);
   EXPECT_FALSE(GpsCalibrationParams{}.validate().has_value());
+}
+
+// Deterministic pseudo-noise (a fixed-seed LCG mapped to roughly N(0, sigma)), no <random> state.
+struct Noise {
+  std::uint64_t s = 12345;
+  double next(double sigma) {
+    double sum = 0.0;
+    for (int i = 0; i < 12; ++i) {
+      s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+      sum += static_cast<double>(s >> 11) / static_cast<double>(1ULL << 53);
+    }
+    return (sum - 6.0) * sigma;
+  }
+};
+
+TEST(PositionFilter, SmoothsFixNoiseWhileMovingWithoutLag) {
+  // 1 m/s north-east, 5 Hz fixes with 0.4 m noise per axis, exact velocity: the estimate's error
+  // must be well under the raw fixes' (about 0.42 of it at gain 0.3) and unbiased along track.
+  PositionFilter filter({0.3});
+  PositionFilter raw({1.0});
+  Noise noise;
+  const core::NavPoint vel{0.7, 0.7};
+  double se_f = 0.0;
+  double se_r = 0.0;
+  double along_f = 0.0;
+  int n = 0;
+  for (int k = 0; k < 500; ++k) {
+    const double t = 0.2 * k;
+    const core::NavPoint truth{vel.north_m * t, vel.east_m * t};
+    const core::NavPoint fix{truth.north_m + noise.next(0.4), truth.east_m + noise.next(0.4)};
+    const core::TimeNs stamp = core::sec_to_ns(t);
+    filter.add_fix(fix, stamp, vel);
+    raw.add_fix(fix, stamp, vel);
+    if (k < 50) continue;
+    // Half-way to the next fix: the filter dead-reckons, the raw fix is held.
+    const core::TimeNs mid = stamp + core::sec_to_ns(0.1);
+    const core::NavPoint tm{truth.north_m + vel.north_m * 0.1, truth.east_m + vel.east_m * 0.1};
+    const core::NavPoint ef = filter.position_at(mid);
+    const core::NavPoint er = raw.position_at(mid);
+    se_f += std::pow(ef.north_m - tm.north_m, 2) + std::pow(ef.east_m - tm.east_m, 2);
+    se_r += std::pow(er.north_m - tm.north_m, 2) + std::pow(er.east_m - tm.east_m, 2);
+    along_f += (ef.north_m - tm.north_m + ef.east_m - tm.east_m) / std::sqrt(2.0);
+    ++n;
+  }
+  const double rms_f = std::sqrt(se_f / n);
+  const double rms_r = std::sqrt(se_r / n);
+  EXPECT_LT(rms_f, 0.55 * rms_r) << rms_f << " vs raw " << rms_r;
+  EXPECT_LT(std::abs(along_f / n), 0.05);
+}
+
+TEST(PositionFilter, RawGainHoldsTheFixAndAnOutageRestarts) {
+  PositionFilter raw({1.0});
+  raw.add_fix({1.0, 2.0}, 0, core::NavPoint{1.0, 0.0});
+  const core::NavPoint held = raw.position_at(core::sec_to_ns(0.2));
+  EXPECT_DOUBLE_EQ(held.north_m, 1.0);
+  EXPECT_DOUBLE_EQ(held.east_m, 2.0);
+
+  PositionFilter f({0.3, 1.0, 0.5});
+  f.add_fix({0.0, 0.0}, 0, core::NavPoint{0.0, 0.0});
+  f.add_fix({10.0, 0.0}, core::sec_to_ns(5.0), core::NavPoint{0.0, 0.0});  // after an outage
+  EXPECT_DOUBLE_EQ(f.position_at(core::sec_to_ns(5.0)).north_m, 10.0);
+  // Dead reckoning stops max_predict_s after the last fix.
+  f.add_fix({10.0, 0.0}, core::sec_to_ns(5.2), core::NavPoint{2.0, 0.0});
+  EXPECT_NEAR(f.position_at(core::sec_to_ns(9.0)).north_m, 10.0 + 2.0 * 0.5, 1e-9);
+}
+
+TEST(PositionFilter, TravelledIntegratesTheReceiverVelocity) {
+  // A boat drifting at 0.2 m/s west while it waits: after 4 s it is 0.8 m off the start point.
+  PositionFilter f;
+  for (int k = 0; k <= 20; ++k) {
+    f.add_fix({0.0, -0.2 * 0.2 * k}, core::sec_to_ns(0.2 * k), core::NavPoint{0.0, -0.2});
+  }
+  EXPECT_NEAR(f.travelled_m().east_m, -0.8, 1e-9);
+  EXPECT_NEAR(f.travelled_m().north_m, 0.0, 1e-12);
+  f.reset();
+  EXPECT_DOUBLE_EQ(f.travelled_m().east_m, 0.0);
 }
 
 TEST(DockingApproach, AimsAheadOfTheProjectionOnTheRay) {
