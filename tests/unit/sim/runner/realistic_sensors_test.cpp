@@ -92,11 +92,20 @@ TEST(FitMission, TakesTheCourseGeometry) {
   const config::Configuration config = load_config("obstacle_course.yaml");
   const config::MissionConfig m = fit_mission_to_course(config.mission, course.world);
   ASSERT_EQ(m.tasks.size(), 1U);
-  ASSERT_EQ(m.tasks[0].waypoints.size(), 1U);
+  // Through the centre of every gate in order, then 2 m past the last (so the task ends only
+  // after the judge's crossing).
+  const auto& gates = course.world.gates;
+  ASSERT_FALSE(gates.empty());
+  ASSERT_EQ(m.tasks[0].waypoints.size(), gates.size() + 1);
   const core::LocalFrame frame(course.world.origin);
-  const core::NavPoint goal = frame.to_nav(m.tasks[0].waypoints[0]);
-  // 5 m past the finish gate (north 40 m, centred on east 0), in the course direction (north).
-  EXPECT_NEAR(goal.north_m, 45.0, 1e-3);
+  for (std::size_t i = 0; i < gates.size(); ++i) {
+    const core::NavPoint c = frame.to_nav(m.tasks[0].waypoints[i]);
+    EXPECT_NEAR(c.north_m, (gates[i].left.north_m + gates[i].right.north_m) / 2.0, 1e-3);
+    EXPECT_NEAR(c.east_m, (gates[i].left.east_m + gates[i].right.east_m) / 2.0, 1e-3);
+  }
+  const core::NavPoint goal = frame.to_nav(m.tasks[0].waypoints.back());
+  // The finish gate is at north 40 m, centred on east 0; the course runs north.
+  EXPECT_NEAR(goal.north_m, 42.0, 1e-3);
   EXPECT_NEAR(goal.east_m, 0.0, 1e-3);
   // The engine parameters are untouched.
   EXPECT_EQ(m.avoidance.strategy, config.mission.avoidance.strategy);
