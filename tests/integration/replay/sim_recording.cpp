@@ -79,6 +79,7 @@ SimRecordingResult record_sim_run(const std::filesystem::path& mcap,
     return result;
   }
   pilot.set_recorder(&recorder);
+  run.set_step_observer([&recorder] { recorder.sample(); });
   (void)run.run();
   const record::RecorderStats stats = recorder.stop();
   result.ticks = stats[record::RecordChannel::kTick].written;
