@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <limits>
 
 namespace coxswain::config {
 namespace {
@@ -780,6 +781,9 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
 
 std::string to_yaml(const Configuration& c) {
   YAML::Emitter out;
+  // Replay rebuilds the core from this text: every double must load back bit for bit.
+  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
+  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
   out << YAML::BeginMap;
   out << YAML::Key << "boat" << YAML::Value << YAML::BeginMap;
   kv(out, "file", c.boat.file);
@@ -882,6 +886,7 @@ std::string to_yaml(const Configuration& c) {
   out << YAML::Key << "origin" << YAML::Value << YAML::Flow << YAML::BeginMap;
   kv(out, "lat_deg", m.origin.lat_deg);
   kv(out, "lon_deg", m.origin.lon_deg);
+  kv(out, "height_m", m.origin.height_m);
   out << YAML::EndMap;
   out << YAML::Key << "start" << YAML::Value << YAML::BeginMap;
   kv(out, "mode",
@@ -915,6 +920,7 @@ std::string to_yaml(const Configuration& c) {
         out << YAML::Flow << YAML::BeginMap;
         kv(out, "lat_deg", w.lat_deg);
         kv(out, "lon_deg", w.lon_deg);
+        kv(out, "height_m", w.height_m);
         out << YAML::EndMap;
       }
       out << YAML::EndSeq;
@@ -925,6 +931,7 @@ std::string to_yaml(const Configuration& c) {
         out << YAML::Flow << YAML::BeginMap;
         kv(out, "lat_deg", w.lat_deg);
         kv(out, "lon_deg", w.lon_deg);
+        kv(out, "height_m", w.height_m);
         out << YAML::EndMap;
       }
       out << YAML::EndSeq;

@@ -325,7 +325,9 @@ bool Recorder::start() {
   queues_->log_accepting.store(true, std::memory_order_release);
   sampler_stop_.store(false);
   thread_ = std::thread([this] { run(); });
-  if (store_ != nullptr) sampler_thread_ = std::thread([this] { run_sampler(); });
+  if (store_ != nullptr && options_.sampler_thread) {
+    sampler_thread_ = std::thread([this] { run_sampler(); });
+  }
   return true;
 }
 
@@ -341,6 +343,8 @@ void Recorder::stop() {
     }
     stop_cv_.notify_all();
     sampler_thread_.join();
+  } else if (store_ != nullptr) {
+    (void)sample_store();  // the last look the sampler thread would have taken
   }
   {
     std::lock_guard lock(stop_mutex_);
@@ -593,6 +597,21 @@ bool Recorder::sample_store() {
     }
   }
   return any;
+}
+
+void Recorder::sample() noexcept {
+  if (store_ == nullptr || options_.sampler_thread || !accepting_.load(std::memory_order_acquire)) {
+    return;
+  }
+  (void)sample_store();
+}
+
+std::size_t Recorder::queue_room() const {
+  // One pass queues at most one message per small store slot and one scan.
+  constexpr std::size_t kSlotsPerPass = 5 + msg::kDeviceCount;
+  const std::size_t samples = queues_->samples.capacity() - queues_->samples.size();
+  const std::size_t scans = queues_->lidar_samples.capacity() - queues_->lidar_samples.size();
+  return std::min(samples / kSlotsPerPass, scans);
 }
 
 void Recorder::run_sampler() {

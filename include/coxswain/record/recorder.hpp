@@ -80,8 +80,11 @@ struct RecorderOptions {
   bool sync = true;                                 // fdatasync every closed chunk
   core::TimeNs idle_sleep_ns = 2 * core::kNsPerMs;  // writer thread nap when all queues are empty
   core::TimeNs sample_period_ns = core::kNsPerMs;   // store sampler poll period
-  std::size_t sample_queue_slots = 1024;            // decoded messages waiting for the writer
-  std::size_t lidar_queue_slots = 8;                // scans waiting for the writer (53 KiB each)
+  // false: no sampler thread; the owner calls sample() after every store update instead (the
+  // simulator, whose virtual time outruns any polling thread, so no value is ever overwritten).
+  bool sampler_thread = true;
+  std::size_t sample_queue_slots = 1024;  // decoded messages waiting for the writer
+  std::size_t lidar_queue_slots = 8;      // scans waiting for the writer (53 KiB each)
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
   std::string config_yaml;          // effective configuration (Metadata "config")
@@ -139,6 +142,13 @@ class Recorder final : public drivers::RawByteSink {
                   std::string_view text) noexcept;
   /// An spdlog sink feeding /log; add it to the loggers whose lines belong in the recording.
   [[nodiscard]] std::shared_ptr<spdlog::sinks::sink> log_sink();
+
+  /// With `sampler_thread = false` only: takes every new store value now, on the caller's
+  /// thread (always the same one). Never blocks; a full queue drops and counts as usual.
+  void sample() noexcept;
+  /// How many sample() passes the decoded-message queues have room for even if every store slot
+  /// changed (0 = a pass now could drop), so a caller of sample() can wait for the writer.
+  [[nodiscard]] std::size_t queue_room() const;
 
   [[nodiscard]] RecorderStats stats() const;
 

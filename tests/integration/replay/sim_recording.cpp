@@ -79,11 +79,12 @@ SimRecordingResult record_sim_run(const std::filesystem::path& mcap,
     return result;
   }
   pilot.set_recorder(&recorder);
+  run.set_step_observer([&recorder] { recorder.sample(); });
   (void)run.run();
   const record::RecorderStats stats = recorder.stop();
   result.ticks = stats[record::RecordChannel::kTick].written;
-  result.dropped =
-      stats[record::RecordChannel::kTick].dropped + stats[record::RecordChannel::kLidar].dropped;
+  // Every channel: the simulator samples the store after each step, so not even /imu may drop.
+  result.dropped = stats.total_dropped();
   result.ok = !stats.failed;
   if (stats.failed) result.error = stats.error;
   return result;

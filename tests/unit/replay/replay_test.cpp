@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -142,6 +145,45 @@ TEST_F(ReplayTest, RecordedConfigurationReadsBack) {
   config::ConfigErrors errors;
   EXPECT_FALSE(configuration_from_yaml("boat: {name: x}\n", errors));
   EXPECT_FALSE(errors.empty());
+}
+
+// Bit for bit, not just "prints the same": geo heights and doubles that need all 17 digits
+// (a 6-digit print moves the origin by metres and the replayed pose no longer matches).
+TEST(RecordedConfiguration, DoublesAndHeightsRoundTripExactly) {
+  config::Configuration c = test::shipped_config("hopping");
+  ASSERT_FALSE(c.mission.tasks.empty());
+  c.mission.origin.lat_deg = std::nextafter(37.123456789012345, 90.0);
+  c.mission.origin.lon_deg = 126.98765432109876;
+  c.mission.origin.height_m = 12.345678901234567;
+  config::TaskConfig* with_waypoints = nullptr;
+  for (auto& t : c.mission.tasks) {
+    if (!t.waypoints.empty()) with_waypoints = &t;
+  }
+  ASSERT_NE(with_waypoints, nullptr);
+  with_waypoints->waypoints[0].lat_deg = 0.1 + 0.2;  // 0.30000000000000004
+  with_waypoints->waypoints[0].height_m = -3.0 / 7.0;
+  c.mission.tick_rate_hz = 50.0 + 1e-12;
+
+  const std::string yaml = config::to_yaml(c);
+  config::ConfigErrors errors;
+  const auto back = configuration_from_yaml(yaml, errors);
+  ASSERT_TRUE(back) << errors.format();
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  EXPECT_EQ(bits(back->mission.origin.lat_deg), bits(c.mission.origin.lat_deg));
+  EXPECT_EQ(bits(back->mission.origin.lon_deg), bits(c.mission.origin.lon_deg));
+  EXPECT_EQ(bits(back->mission.origin.height_m), bits(c.mission.origin.height_m));
+  EXPECT_EQ(bits(back->mission.tick_rate_hz), bits(c.mission.tick_rate_hz));
+  ASSERT_EQ(back->mission.tasks.size(), c.mission.tasks.size());
+  for (std::size_t i = 0; i < c.mission.tasks.size(); ++i) {
+    const auto& want = c.mission.tasks[i].waypoints;
+    const auto& got = back->mission.tasks[i].waypoints;
+    ASSERT_EQ(got.size(), want.size()) << "task " << i;
+    for (std::size_t k = 0; k < want.size(); ++k) {
+      EXPECT_EQ(bits(got[k].lat_deg), bits(want[k].lat_deg)) << "task " << i << " wp " << k;
+      EXPECT_EQ(bits(got[k].lon_deg), bits(want[k].lon_deg)) << "task " << i << " wp " << k;
+      EXPECT_EQ(bits(got[k].height_m), bits(want[k].height_m)) << "task " << i << " wp " << k;
+    }
+  }
 }
 
 TEST_F(ReplayTest, UnreadableFilesAreNotRecordings) {

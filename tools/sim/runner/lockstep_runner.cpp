@@ -125,6 +125,7 @@ bool LockstepRunner::step() {
     over_ = true;
     path_.push_back(truth.pose);
   }
+  if (step_observer_) step_observer_();
   return !over_;
 }
 

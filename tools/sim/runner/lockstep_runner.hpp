@@ -10,6 +10,7 @@
 // (trajectory_hash() folds every state of every step). Not thread-safe: one runner per thread;
 // the World is shared read-only.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -62,6 +63,9 @@ class LockstepRunner {
   /// Cuts (false) or restores (true) the serial link to the Arduino: while cut, commands do not
   /// reach the firmware, whose failsafe then neutralises the outputs after failsafe_ms.
   void set_command_link(bool up) { link_up_ = up; }
+  /// Called at the end of every step(), after the sensors published (the flight recorder takes
+  /// each new store value there). Empty = none.
+  void set_step_observer(std::function<void()> observer) { step_observer_ = std::move(observer); }
 
   [[nodiscard]] const world::Course& course() const { return *course_; }
   [[nodiscard]] const config::BoatConfig& boat_config() const { return boat_; }
@@ -97,6 +101,7 @@ class LockstepRunner {
   core::TimeNs next_status_ns_ = 0;
   core::TimeNs next_trace_ns_ = 0;
   std::uint64_t steps_ = 0;
+  std::function<void()> step_observer_;
   std::uint64_t hash_ = 0xcbf29ce484222325ULL;
   bool over_ = false;
   bool link_up_ = true;

@@ -107,6 +107,7 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
                                recorder->error());
     }
     pilot.set_recorder(recorder.get());
+    runner.set_step_observer([rec = recorder.get()] { rec->sample(); });
   }
 
   MissionRunResult r;

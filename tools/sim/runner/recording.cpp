@@ -65,7 +65,8 @@ RunRecorder::RunRecorder(std::filesystem::path path, const config::Configuration
   options.path = std::move(path);
   options.config_yaml = config::to_yaml(config);
   options.build_version = build_version;
-  options.sync = false;  // a simulation: no power loss to survive, and fdatasync is slow
+  options.sync = false;            // a simulation: no power loss to survive, and fdatasync is slow
+  options.sampler_thread = false;  // sample() after every lockstep step instead
   if (!course.empty()) options.extra_metadata.push_back({"course", {{"json", course}}});
   recorder_ = std::make_unique<record::Recorder>(std::move(options), &store, clock);
 }
@@ -74,6 +75,7 @@ RunRecorder::~RunRecorder() { (void)stop(); }
 
 bool RunRecorder::start() {
   started_ = recorder_->start();
+  if (started_) sample();  // what the sensors published before the first step
   return started_;
 }
 
@@ -91,6 +93,17 @@ void RunRecorder::wait_for_sampler(const core::Snapshot& snapshot) {
     if (scan_taken && room) return;
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
+}
+
+void RunRecorder::sample() {
+  if (!started_) return;
+  const auto deadline = std::chrono::steady_clock::now() + kMaxWait;
+  while (recorder_->queue_room() == 0 && std::chrono::steady_clock::now() < deadline) {
+    const record::RecorderStats s = recorder_->stats();
+    if (!s.running || s.failed) break;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  recorder_->sample();
 }
 
 void RunRecorder::record_tick(const core::Snapshot& snapshot, core::TimeNs now_ns,

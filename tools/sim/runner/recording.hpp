@@ -3,8 +3,8 @@
 // The simulator's flight recording (`coxswain-sim run ... --record FILE.mcap`): the same
 // record::Recorder, channels and effective-config metadata the daemon writes, plus Metadata
 // "course" (the course geometry as JSON, for `coxswain report`). In lockstep the virtual clock
-// runs far faster than the recorder's sampler thread polls the store, so each tick waits (real
-// time, bounded) until the sampler has taken the lidar scan the core saw and the tick queue has
+// runs far faster than any polling thread, so the runner calls sample() after every step (no
+// sampler thread) and each tick waits (real time, bounded) until the tick queue has
 // room: every input replay needs is in the file, and the trajectory stays bit-identical (the wait
 // never touches the simulation). Runner thread only.
 #include <cstdint>
@@ -40,6 +40,10 @@ class RunRecorder {
   /// Records one tick exactly as the daemon does (command, state path, viz).
   void record_tick(const core::Snapshot& snapshot, core::TimeNs now_ns,
                    const mission::CoreOutput& out);
+  /// Takes every new store value into the recording (the recorder runs no sampler thread here:
+  /// virtual time would outrun it and lose IMU samples). Call after every LockstepRunner step
+  /// (LockstepRunner::set_step_observer); waits (real time, bounded) for queue room first.
+  void sample();
   /// Finishes the file. Returns the recorder's final statistics.
   record::RecorderStats stop();
   [[nodiscard]] std::string error() const;
