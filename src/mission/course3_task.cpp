@@ -74,9 +74,8 @@ class Course3Task final : public Task {
         }
         const double a = core::deg_to_rad(axis_true_deg_);
         const double back_m = 4.0;  // the ray starts this far out on the axis
-        (void)approach_.set_ray({mouth_.north_m - back_m * std::cos(a),
-                                 mouth_.east_m - back_m * std::sin(a)},
-                                mouth_);
+        (void)approach_.set_ray(
+            {mouth_.north_m - back_m * std::cos(a), mouth_.east_m - back_m * std::sin(a)}, mouth_);
         const double mouth_m = std::hypot(s->mouth_x_m, s->mouth_y_m);
         if (!seen_) {
           seen_ = true;

@@ -60,14 +60,14 @@ struct SlipOpening {
 };
 
 struct SlipFinderParams {
-  double min_width_m = 1.2;     // narrower gaps do not take the hull (beam plus margin)
-  double max_width_m = 2.6;     // wider gaps are open water between obstacles, not a slip
-  double min_depth_m = 1.0;     // the inside reaches at least this much beyond the tips
-  double jump_m = 0.5;          // a tip is where the range jumps out by at least this
+  double min_width_m = 1.2;       // narrower gaps do not take the hull (beam plus margin)
+  double max_width_m = 2.6;       // wider gaps are open water between obstacles, not a slip
+  double min_depth_m = 1.0;       // the inside reaches at least this much beyond the tips
+  double jump_m = 0.5;            // a tip is where the range jumps out by at least this
   double max_bearing_deg = 85.0;  // only mouths within this of the forward direction
-  double max_range_m = 12.0;    // ignore tips farther than this
-  double max_axis_deg = 45.0;   // the slip's axis within this of the forward direction: a gap
-                                // seen edge-on (tips at different depths) is no mouth
+  double max_range_m = 12.0;      // ignore tips farther than this
+  double max_axis_deg = 45.0;     // the slip's axis within this of the forward direction: a gap
+                                  // seen edge-on (tips at different depths) is no mouth
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };
