@@ -309,6 +309,14 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     d.approach_thrust_frac = m->get("approach_thrust_frac", d.approach_thrust_frac, kFrac);
     d.open_window_deg = m->get("open_window_deg", d.open_window_deg, {0.0, 45.0});
     d.open_max_range_m = m->get("open_max_range_m", d.open_max_range_m, kPositive);
+    d.survey_distance_m = m->get("survey_distance_m", d.survey_distance_m, kPositive);
+    d.commit_range_m = m->get("commit_range_m", d.commit_range_m, kPositive);
+    auto& sl = d.slip;
+    sl.min_width_m = m->get("slip_min_width_m", sl.min_width_m, kPositive);
+    sl.max_width_m = m->get("slip_max_width_m", sl.max_width_m, kPositive);
+    sl.min_depth_m = m->get("slip_min_depth_m", sl.min_depth_m, kPositive);
+    sl.max_bearing_deg = m->get("slip_max_bearing_deg", sl.max_bearing_deg, {1.0, 180.0});
+    check(*m, sl.validate());
     m->finish();
   }
 }
@@ -774,6 +782,12 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "approach_thrust_frac", d.approach_thrust_frac);
   kv(out, "open_window_deg", d.open_window_deg);
   kv(out, "open_max_range_m", d.open_max_range_m);
+  kv(out, "survey_distance_m", d.survey_distance_m);
+  kv(out, "commit_range_m", d.commit_range_m);
+  kv(out, "slip_min_width_m", d.slip.min_width_m);
+  kv(out, "slip_max_width_m", d.slip.max_width_m);
+  kv(out, "slip_min_depth_m", d.slip.min_depth_m);
+  kv(out, "slip_max_bearing_deg", d.slip.max_bearing_deg);
   out << YAML::EndMap;
 }
 

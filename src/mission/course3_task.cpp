@@ -19,13 +19,17 @@ namespace coxswain::mission::detail {
 
 namespace {
 
-/// Most open direction that is both ahead (front 180 deg) and inside the course's forward
-/// half-plane; stop when the range ahead is under the stop distance. Lidar and IMU only.
+/// Find the slip's mouth in the lidar profile (two tips with a deeper inside, within the
+/// course's forward half-plane) and pursue a point along its axis, so the boat lines up before
+/// the mouth; once the mouth is near, hold the axis; stop when the range ahead is under the stop
+/// distance. Until the slip is in lidar range: the course's forward direction. Lidar and IMU only.
+/// ("The most open direction" of the plan picked a pond's corner beside the dock.)
 class Course3Task final : public Task {
  public:
   Course3Task(const config::TaskConfig& t, const config::MissionConfig& m)
-      : Task(t.name), d_(m.docking) {
+      : Task(t.name), d_(m.docking), approach_(m.docking.approach) {
     check(m.docking.approach.validate());
+    check(m.docking.slip.validate());
   }
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedImu | kNeedLidar; }
@@ -33,7 +37,9 @@ class Course3Task final : public Task {
   ReasonText enter(const TaskContext& ctx) override {
     if (!ctx.heading_valid) return reason_printf("no heading");
     if (!ctx.lidar_fresh) return reason_printf("no lidar scan");
-    set_phase("seek_open", "task entered");
+    seen_ = false;
+    committed_ = false;
+    set_phase("seek_slip", "task entered");
     return {};
   }
 
@@ -45,47 +51,66 @@ class Course3Task final : public Task {
       set_reason(reason_printf("stopped %.2f m from the dock", *ahead));
       return TaskResult::kDone;
     }
-    const double w = static_cast<double>(p.bin_width_deg);
-    const std::size_t bins = std::min<std::size_t>(p.bin_count, p.closest_range_m.size());
-    const auto window = static_cast<std::ptrdiff_t>(std::ceil(d_.open_window_deg / w));
-    double best_range = -1.0;
-    double best_bearing = 0.0;
-    for (std::size_t i = 0; i < bins; ++i) {
-      const double b = -180.0 + (static_cast<double>(i) + 0.5) * w;
-      if (std::abs(b) > 90.0) continue;  // the front 180 deg of the lidar
-      const double course =
-          control::course_from_true_deg(ctx.pose.heading_deg + b, ctx.course_zero_deg);
-      if (std::abs(course) > 90.0) continue;  // the course's forward half-plane
-      // A direction is as open as its narrowest neighbour within the hull window.
-      double r = d_.open_max_range_m;
-      for (std::ptrdiff_t k = -window; k <= window; ++k) {
-        const auto j = static_cast<std::size_t>(
-            (static_cast<std::ptrdiff_t>(i) + k + static_cast<std::ptrdiff_t>(bins)) %
-            static_cast<std::ptrdiff_t>(bins));
-        const float rj = p.closest_range_m[j];
-        if (rj > 0.0F && rj < perception::RangeProfile::kNoReturn) {
-          r = std::min(r, static_cast<double>(rj));
+    const double forward_true = control::true_from_course_deg(0.0, ctx.course_zero_deg);
+    if (ctx.lidar_new && !committed_) {
+      const double forward_body = core::angle_diff_deg(forward_true, ctx.pose.heading_deg);
+      if (const auto s = guidance::find_slip(p, d_.slip, forward_body)) {
+        // Into the navigation frame, so a scan that misses the mouth does not lose it; the
+        // smoothing rides out single-bin jitter of the tips.
+        const double h = core::deg_to_rad(ctx.pose.heading_deg);
+        const core::NavPoint mouth{
+            ctx.pose.position.north_m + s->mouth_x_m * std::cos(h) - s->mouth_y_m * std::sin(h),
+            ctx.pose.position.east_m + s->mouth_x_m * std::sin(h) + s->mouth_y_m * std::cos(h)};
+        const double axis = core::wrap_deg(ctx.pose.heading_deg + s->axis_body_deg);
+        if (!seen_) {
+          mouth_ = mouth;
+          axis_true_deg_ = axis;
+        } else {
+          constexpr double kAlpha = 0.3;
+          mouth_.north_m += kAlpha * (mouth.north_m - mouth_.north_m);
+          mouth_.east_m += kAlpha * (mouth.east_m - mouth_.east_m);
+          axis_true_deg_ =
+              core::wrap_deg(axis_true_deg_ + kAlpha * core::angle_diff_deg(axis, axis_true_deg_));
         }
-      }
-      // Ties go to the direction nearer the bow (less turning).
-      if (r > best_range + 1e-9 ||
-          (std::abs(r - best_range) <= 1e-9 && std::abs(b) < std::abs(best_bearing))) {
-        best_range = r;
-        best_bearing = b;
+        const double a = core::deg_to_rad(axis_true_deg_);
+        const double back_m = 4.0;  // the ray starts this far out on the axis
+        (void)approach_.set_ray(
+            {mouth_.north_m - back_m * std::cos(a), mouth_.east_m - back_m * std::sin(a)}, mouth_);
+        const double mouth_m = std::hypot(s->mouth_x_m, s->mouth_y_m);
+        if (!seen_) {
+          seen_ = true;
+          set_phase("approach_slip",
+                    reason_printf("slip mouth %.1f m away, %.1f m wide", mouth_m, s->width_m));
+        }
+        if (mouth_m < d_.commit_range_m) {
+          committed_ = true;
+          set_phase("enter_slip", reason_printf("mouth %.2f m away: holding the slip's axis "
+                                                "%.0f deg",
+                                                mouth_m, axis_true_deg_));
+        }
       }
     }
     out.steer = true;
-    out.desired_heading_deg = best_range < 0.0
-                                  ? control::true_from_course_deg(0.0, ctx.course_zero_deg)
-                                  : core::wrap_deg(ctx.pose.heading_deg + best_bearing);
+    out.desired_heading_deg = forward_true;
+    if (committed_) {
+      out.desired_heading_deg = axis_true_deg_;
+    } else if (seen_) {
+      out.desired_heading_deg = approach_.pursue(ctx.pose, std::nullopt).desired_heading_deg;
+      ctx.viz->has_goal = true;
+      ctx.viz->goal = mouth_;
+      ctx.viz->distance_to_go_m = core::distance_m(ctx.pose.position, mouth_);
+    }
     out.thrust_frac = d_.approach_thrust_frac;
-    ctx.viz->has_avoidance = best_range >= 0.0;
-    ctx.viz->avoidance_bearing_body_deg = best_bearing;
     return TaskResult::kRunning;
   }
 
  private:
   config::DockingConfig d_;
+  guidance::DockingApproach approach_;
+  bool seen_ = false;
+  bool committed_ = false;
+  core::NavPoint mouth_;
+  double axis_true_deg_ = 0.0;
 };
 
 }  // namespace

@@ -202,6 +202,9 @@ struct DockingConfig {
   double approach_thrust_frac = 0.35;  // both: thrust while entering
   double open_window_deg = 10.0;       // 2026: a direction's range is the minimum over +- this
   double open_max_range_m = 15.0;      // 2026: ranges are capped here (no return = this far)
+  double survey_distance_m = 7.0;      // 2022: look at every marker from this far before the slips
+  double commit_range_m = 1.5;         // 2026: mouth nearer than this: hold the slip's axis
+  guidance::SlipFinderParams slip;     // 2026: the slip mouth in the lidar profile
 };
 
 /// Navigation estimate (inside the core).

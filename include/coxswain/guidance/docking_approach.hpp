@@ -4,7 +4,9 @@
 // from a decision point into the slip (project the boat onto the ray, aim ahead of the
 // projection), or keep the marker on the image centre line (its body bearing at 0). Both stop
 // when the lidar range ahead falls under the stop distance (2026 plan: 0.3 m).
+#include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "coxswain/core/frames.hpp"
@@ -34,6 +36,54 @@ struct DockingCommand {
 /// Closest lidar return within +-half_angle_deg of the bow; empty when no bin there has a return.
 [[nodiscard]] std::optional<double> min_range_ahead_m(const perception::RangeProfile& profile,
                                                       double half_angle_deg);
+
+/// Which slip the target marker of one camera frame belongs to. `marker_bearings_deg`: body
+/// bearings of every dock marker in the frame; `target_index`: which of them is the target;
+/// `slip_bearings_deg`: each slip's expected body bearing (from the map and the pose). When the
+/// frame holds one marker per slip, the target's rank from port to starboard names the slip: a
+/// position error shifts every expected bearing alike and cannot swap neighbours. Otherwise the
+/// slip whose expected bearing is nearest the target's, if within `window_deg`. Empty when
+/// undecidable (bad index, no slips, nothing within the window).
+[[nodiscard]] std::optional<std::size_t> slip_of_marker(std::span<const double> marker_bearings_deg,
+                                                        std::size_t target_index,
+                                                        std::span<const double> slip_bearings_deg,
+                                                        double window_deg);
+
+/// A slip mouth found in a lidar profile (2026 course 3, no marker to match). Body frame about
+/// the profile's origin: x forward, y starboard.
+struct SlipOpening {
+  double mouth_x_m = 0.0;  // middle of the mouth (between the side walls' tips)
+  double mouth_y_m = 0.0;
+  double axis_body_deg = 0.0;  // direction into the slip (perpendicular to the mouth)
+  double width_m = 0.0;        // distance between the tips
+  double depth_m = 0.0;        // how much deeper than its tips the inside reaches
+};
+
+struct SlipFinderParams {
+  double min_width_m = 1.2;       // narrower gaps do not take the hull (beam plus margin)
+  double max_width_m = 2.6;       // wider gaps are open water between obstacles, not a slip
+  double min_depth_m = 1.0;       // the inside reaches at least this much beyond the tips
+  double jump_m = 0.5;            // a tip is where the range jumps out by at least this
+  double max_bearing_deg = 85.0;  // only mouths within this of the forward direction
+  double max_range_m = 12.0;      // ignore tips farther than this
+  double max_axis_deg = 45.0;     // the slip's axis within this of the forward direction: a gap
+                                  // seen edge-on (tips at different depths) is no mouth
+
+  [[nodiscard]] std::optional<std::string> validate() const;
+};
+
+/// The slip mouth nearest the expected width within +-max_bearing_deg of `forward_body_deg`
+/// (the course's forward direction in the body frame): two tips where the range jumps out, the
+/// returns between them all beyond both tips and the deepest at least min_depth_m beyond. Unlike
+/// "the most open direction" this ignores a pond's corner, which has no tips. Empty when none.
+[[nodiscard]] std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
+                                                   const SlipFinderParams& params,
+                                                   double forward_body_deg);
+
+/// Ray pursuit in the body frame: heading change (body bearing, + starboard) toward a point
+/// `lookahead_m` along the slip's axis beyond the boat's projection on it, so the boat lines up
+/// with the axis before it reaches the mouth instead of cutting the corner.
+[[nodiscard]] double slip_pursuit_bearing_deg(const SlipOpening& slip, double lookahead_m);
 
 /// Holds the ray and the latched stop. Plain value, not thread-safe.
 class DockingApproach {

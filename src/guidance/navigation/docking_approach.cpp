@@ -36,6 +36,135 @@ std::optional<double> min_range_ahead_m(const perception::RangeProfile& profile,
   return best;
 }
 
+std::optional<std::size_t> slip_of_marker(std::span<const double> marker_bearings_deg,
+                                          std::size_t target_index,
+                                          std::span<const double> slip_bearings_deg,
+                                          double window_deg) {
+  if (target_index >= marker_bearings_deg.size() || slip_bearings_deg.empty()) return std::nullopt;
+  const double target = marker_bearings_deg[target_index];
+  if (marker_bearings_deg.size() == slip_bearings_deg.size()) {
+    // Rank by counting (no sort, no allocation); ties broken by index so ranks are distinct.
+    const auto rank_of = [](std::span<const double> v, std::size_t i) {
+      std::size_t r = 0;
+      for (std::size_t k = 0; k < v.size(); ++k) {
+        if (v[k] < v[i] || (v[k] == v[i] && k < i)) ++r;
+      }
+      return r;
+    };
+    const std::size_t rank = rank_of(marker_bearings_deg, target_index);
+    for (std::size_t j = 0; j < slip_bearings_deg.size(); ++j) {
+      if (rank_of(slip_bearings_deg, j) == rank) return j;
+    }
+  }
+  std::optional<std::size_t> best;
+  double best_err = window_deg;
+  for (std::size_t j = 0; j < slip_bearings_deg.size(); ++j) {
+    const double err = std::abs(core::angle_diff_deg(slip_bearings_deg[j], target));
+    if (err <= best_err) {
+      best_err = err;
+      best = j;
+    }
+  }
+  return best;
+}
+
+std::optional<std::string> SlipFinderParams::validate() const {
+  if (!(min_width_m > 0.0 && max_width_m > min_width_m)) {
+    return "docking: slip widths need 0 < min_width_m < max_width_m";
+  }
+  if (!(min_depth_m > 0.0)) return "docking: slip min_depth_m must be > 0";
+  if (!(jump_m > 0.0)) return "docking: slip jump_m must be > 0";
+  if (!(max_bearing_deg > 0.0 && max_bearing_deg <= 180.0)) {
+    return "docking: slip max_bearing_deg must be in (0, 180]";
+  }
+  if (!(max_range_m > 0.0)) return "docking: slip max_range_m must be > 0";
+  if (!(max_axis_deg > 0.0 && max_axis_deg <= 180.0)) {
+    return "docking: slip max_axis_deg must be in (0, 180]";
+  }
+  return std::nullopt;
+}
+
+std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
+                                     const SlipFinderParams& params, double forward_body_deg) {
+  const std::size_t bins = std::min<std::size_t>(profile.bin_count, profile.closest_range_m.size());
+  const double w = static_cast<double>(profile.bin_width_deg);
+  if (bins < 3 || !(w > 0.0)) return std::nullopt;
+  const auto bearing = [w](std::size_t i) { return -180.0 + (static_cast<double>(i) + 0.5) * w; };
+  const auto range = [&profile](std::size_t i) {
+    const float r = profile.closest_range_m[i];
+    return r > 0.0F && r < perception::RangeProfile::kNoReturn ? static_cast<double>(r) : -1.0;
+  };
+  const auto in_sector = [&](std::size_t i) {
+    return std::abs(core::angle_diff_deg(bearing(i), forward_body_deg)) <= params.max_bearing_deg;
+  };
+  // The widest slip seen from its mouth spans at most this many bins.
+  const double nominal = 0.5 * (params.min_width_m + params.max_width_m);
+  std::optional<SlipOpening> best;
+  double best_score = 0.0;
+  for (std::size_t i = 0; i < bins; ++i) {
+    const double ri = range(i);
+    if (ri < 0.0 || ri > params.max_range_m || !in_sector(i)) continue;
+    const std::size_t i1 = (i + 1) % bins;
+    const double r1 = range(i1);
+    if (r1 >= 0.0 && r1 < ri + params.jump_m) continue;  // no jump out: not a left tip
+    // Walk starboard across the inside to the right tip.
+    double deepest = r1 < 0.0 ? params.max_range_m + ri : r1;
+    bool inside_ok = true;
+    for (std::size_t step = 2; step < bins / 2 && inside_ok; ++step) {
+      const std::size_t j = (i + step) % bins;
+      const std::size_t jp = (i + step - 1) % bins;
+      const double rj = range(j);
+      const double rp = range(jp);
+      if (rj >= 0.0 && (rp < 0.0 || rj <= rp - params.jump_m)) {
+        // Range jumps in: j is the right tip when the inside stayed beyond both tips.
+        if (rj > params.max_range_m || !in_sector(j)) break;
+        const double far = std::max(ri, rj);
+        if (deepest < far + params.min_depth_m) break;
+        const double bi = core::deg_to_rad(bearing(i));
+        const double bj = core::deg_to_rad(bearing(j));
+        const double xi = ri * std::cos(bi);
+        const double yi = ri * std::sin(bi);
+        const double xj = rj * std::cos(bj);
+        const double yj = rj * std::sin(bj);
+        const double width = std::hypot(xj - xi, yj - yi);
+        if (width < params.min_width_m || width > params.max_width_m) break;
+        SlipOpening s;
+        s.mouth_x_m = 0.5 * (xi + xj);
+        s.mouth_y_m = 0.5 * (yi + yj);
+        // The chord runs port tip -> starboard tip; turned 90 deg to port it points inside.
+        s.axis_body_deg = core::rad_to_deg(std::atan2(-(xj - xi), yj - yi));
+        if (std::abs(core::angle_diff_deg(s.axis_body_deg, forward_body_deg)) >
+            params.max_axis_deg) {
+          break;
+        }
+        s.width_m = width;
+        s.depth_m = deepest - far;
+        const double score = std::abs(width - nominal);
+        if (!best || score < best_score) {
+          best = s;
+          best_score = score;
+        }
+        break;
+      }
+      if (rj >= 0.0 && rj <= std::max(ri, 0.0) + 0.05) inside_ok = false;  // inside came nearer
+      deepest = std::max(deepest, rj < 0.0 ? params.max_range_m + ri : rj);
+      const double span_m = ri * core::deg_to_rad(static_cast<double>(step) * w);
+      if (span_m > 2.0 * params.max_width_m) break;
+    }
+  }
+  return best;
+}
+
+double slip_pursuit_bearing_deg(const SlipOpening& slip, double lookahead_m) {
+  const double a = core::deg_to_rad(slip.axis_body_deg);
+  const double ux = std::cos(a);
+  const double uy = std::sin(a);
+  // The boat is the origin: its projection on the axis, measured from the mouth.
+  const double along = -(slip.mouth_x_m * ux + slip.mouth_y_m * uy);
+  const double s = along + lookahead_m;
+  return core::rad_to_deg(std::atan2(slip.mouth_y_m + s * uy, slip.mouth_x_m + s * ux));
+}
+
 bool DockingApproach::set_ray(core::NavPoint decision_point, core::NavPoint dock_point) {
   if (core::distance_m(decision_point, dock_point) < 0.1) return false;
   origin_ = decision_point;

@@ -96,7 +96,11 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   ro.tick_rate_hz = config.mission.tick_rate_hz;
   ro.max_time_s = options.max_time_s;
   ro.failsafe_ms = static_cast<std::uint16_t>(config.devices.arduino.failsafe_ms);
-  LockstepRunner runner(course, config.boat, ro, &suite, &pilot);
+  // The judge scores the target the run was given (--target), not the course file's default.
+  world::Course judged = course;
+  judged.world.target_colour = so.target_colour;
+  judged.world.target_shape = so.target_shape;
+  LockstepRunner runner(judged, config.boat, ro, &suite, &pilot);
   std::unique_ptr<RunRecorder> recorder;
   if (!options.recording_file.empty()) {
     recorder = std::make_unique<RunRecorder>(options.recording_file, config, runner.store(),

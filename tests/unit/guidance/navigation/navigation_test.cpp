@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -337,6 +338,52 @@ TEST(BuoyCircling, ClosedLoopCirclesTheBuoy) {
   EXPECT_TRUE(done);
   EXPECT_GT(min_d, 1.5);
   EXPECT_LT(max_d, 5.0);
+}
+
+}  // namespace
+}  // namespace coxswain::guidance
+
+namespace coxswain::guidance {
+namespace {
+
+TEST(DockingApproach, SlipOfMarkerByRankThenByNearestBearing) {
+  // Three markers seen, all shifted 12 deg to starboard by a position error: rank still names
+  // the slip (nearest bearing would have picked the neighbour).
+  const std::array<double, 3> slips{-20.0, 0.0, 20.0};
+  const std::array<double, 3> seen{8.0, 32.0, -12.0};
+  EXPECT_EQ(slip_of_marker(seen, 0, slips, 15.0), std::optional<std::size_t>(1));
+  EXPECT_EQ(slip_of_marker(seen, 1, slips, 15.0), std::optional<std::size_t>(2));
+  const std::array<double, 1> one{17.0};
+  EXPECT_EQ(slip_of_marker(one, 0, slips, 5.0), std::optional<std::size_t>(2));
+  EXPECT_FALSE(slip_of_marker(one, 0, slips, 2.0).has_value());
+  EXPECT_FALSE(slip_of_marker(one, 1, slips, 15.0).has_value());
+}
+
+TEST(DockingApproach, FindSlipSeesTwoTipsWithADeeperInsideNotACorner) {
+  perception::RangeProfile p;
+  p.bin_width_deg = 1.0F;
+  p.bin_count = 360;
+  p.closest_range_m.fill(perception::RangeProfile::kNoReturn);
+  // A wall 8 m ahead across the front; a 1.6 m mouth at 6 m (tips at +-7.6 deg), inside 8 m.
+  for (int b = -60; b <= 60; ++b) {
+    p.closest_range_m[static_cast<std::size_t>(180 + b)] =
+        static_cast<float>(8.0 / std::cos(core::deg_to_rad(b + 0.5)));
+  }
+  p.closest_range_m[180 - 8] = 6.05F;
+  p.closest_range_m[180 + 7] = 6.05F;
+  const auto s = find_slip(p, SlipFinderParams{}, 0.0);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(s->mouth_x_m, 6.0, 0.1);
+  EXPECT_NEAR(s->mouth_y_m, 0.0, 0.1);
+  EXPECT_NEAR(s->axis_body_deg, 0.0, 2.0);
+  EXPECT_NEAR(s->width_m, 1.6, 0.2);
+  EXPECT_NEAR(slip_pursuit_bearing_deg(*s, 1.5), 0.0, 2.0);
+  // Behind the boat: outside the forward sector.
+  EXPECT_FALSE(find_slip(p, SlipFinderParams{}, 180.0).has_value());
+  // Without the tips it is a plain wall (a corner has no tips either): no slip.
+  p.closest_range_m[180 - 8] = 8.1F;
+  p.closest_range_m[180 + 7] = 8.1F;
+  EXPECT_FALSE(find_slip(p, SlipFinderParams{}, 0.0).has_value());
 }
 
 }  // namespace
