@@ -1,0 +1,159 @@
+// SPDX-License-Identifier: Apache-2.0
+// What one lidar tick costs the mission core on real data: LidarClusterer::process alone, and
+// followed by Avoidance::decide for each strategy (selection, score, risk_bin), on the source
+// team's recorded run (../shared/testdata/peer/, 174 scans of 1360 beams from the water). Each
+// iteration is one scan, timed on its own, so the median and p99 counters are per scan: the mean
+// Google Benchmark prints hides the tail that matters for a 10 Hz loop. Skipped, with a message,
+// when the recording is absent.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "coxswain/guidance/avoidance.hpp"
+#include "coxswain/perception/lidar_clusterer.hpp"
+#include "peer_recording.hpp"
+
+namespace coxswain::perception {
+namespace {
+
+using guidance::Avoidance;
+using guidance::AvoidanceParams;
+using guidance::AvoidanceStatus;
+using guidance::Strategy;
+using Clock = std::chrono::steady_clock;
+
+std::vector<testing::peer::PeerScan>& peer_scans() {
+  static std::vector<testing::peer::PeerScan> scans;
+  return scans;
+}
+
+struct Output {
+  ObstacleList list;
+  RangeProfile profile;
+};
+
+// Nearest-rank percentile of sorted samples.
+double percentile(const std::vector<double>& sorted, double q) {
+  const auto n = static_cast<double>(sorted.size());
+  const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(q * n)));
+  return sorted[std::min(rank, sorted.size()) - 1];
+}
+
+void add_percentiles(benchmark::State& state, const char* prefix, std::vector<double>& samples) {
+  if (samples.empty()) return;
+  std::sort(samples.begin(), samples.end());
+  const std::string p(prefix);
+  state.counters[p + "p50_us"] = percentile(samples, 0.50);
+  state.counters[p + "p99_us"] = percentile(samples, 0.99);
+  state.counters[p + "max_us"] = samples.back();
+}
+
+double us(Clock::duration d) { return std::chrono::duration<double, std::micro>(d).count(); }
+
+// The clusterer as the daemon runs it, except the hull box: their boat is not ours and their
+// lidar saw nothing of its own hull in this run (the same choice as lidar_peer_test).
+LidarClusterParams peer_params() {
+  LidarClusterParams p;
+  p.hull = HullBox{};
+  return p;
+}
+
+// state.range(0): -1 = clustering alone, else the Strategy. Goal dead ahead, so every obstacle
+// near the bow is in the way; `now` is the scan's own stamp so the hold time sees real spacing.
+void BM_PeerLidarTick(benchmark::State& state) {
+  const auto& scans = peer_scans();
+  if (scans.empty()) {
+    state.SkipWithError("peer recording absent (../shared/testdata/peer/): nothing to measure");
+    return;
+  }
+  const bool with_avoidance = state.range(0) >= 0;
+  AvoidanceParams ap;
+  if (with_avoidance) ap.strategy = static_cast<Strategy>(state.range(0));
+  auto avoidance = std::make_unique<Avoidance>(*Avoidance::create(ap));
+  LidarClusterer clusterer(peer_params());
+  auto out = std::make_unique<Output>();
+
+  constexpr std::size_t kMaxSamples = std::size_t{1} << 20;
+  std::vector<double> total_us;
+  std::vector<double> cluster_us;
+  std::vector<double> avoid_us;
+  total_us.reserve(kMaxSamples);
+  cluster_us.reserve(kMaxSamples);
+  avoid_us.reserve(kMaxSamples);
+  std::size_t next = 0;
+  std::int64_t segments = 0;
+  std::int64_t steering_away = 0;  // decisions that did not steer straight at the goal
+  for (auto _ : state) {
+    const msg::LidarScan& scan = *scans[next].scan;
+    if (next == 0) avoidance->reset();  // the replay starts over: a new leg
+    next = (next + 1) % scans.size();
+    const auto t0 = Clock::now();
+    clusterer.process(scan, out->list, out->profile);
+    const auto t1 = Clock::now();
+    auto t2 = t1;
+    if (with_avoidance) {
+      const auto d = avoidance->decide(out->list, 0.0, scan.stamp_ns);
+      t2 = Clock::now();
+      benchmark::DoNotOptimize(d.bearing_body_deg);
+      steering_away += d.status != AvoidanceStatus::kClear ? 1 : 0;
+    }
+    benchmark::DoNotOptimize(out->list.count);
+    segments += out->list.count;
+    if (total_us.size() < kMaxSamples) {
+      total_us.push_back(us(t2 - t0));
+      cluster_us.push_back(us(t1 - t0));
+      if (with_avoidance) avoid_us.push_back(us(t2 - t1));
+    }
+  }
+  add_percentiles(state, "", total_us);
+  if (with_avoidance) {
+    add_percentiles(state, "cluster_", cluster_us);
+    add_percentiles(state, "avoid_", avoid_us);
+    state.counters["not_clear_pct"] =
+        100.0 * static_cast<double>(steering_away) / static_cast<double>(state.iterations());
+  }
+  state.counters["segments_per_scan"] =
+      static_cast<double>(segments) / static_cast<double>(state.iterations());
+  state.SetLabel(with_avoidance ? std::string("clustering + ") + to_string(ap.strategy)
+                                : std::string("clustering alone"));
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_PeerLidarTick)
+    ->ArgName("strategy")
+    ->Arg(-1)
+    ->Arg(static_cast<int>(Strategy::kSelection))
+    ->Arg(static_cast<int>(Strategy::kScore))
+    ->Arg(static_cast<int>(Strategy::kRiskBin))
+    ->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+}  // namespace coxswain::perception
+
+int main(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  const char* env = std::getenv("COXSWAIN_SHARED_TESTDATA");
+  const fs::path dir = env != nullptr ? env : COXSWAIN_BENCH_TESTDATA;
+  const fs::path rec = dir / "peer/tricat221-0223-scans.jsonl";
+  if (fs::exists(rec)) {
+    coxswain::perception::peer_scans() = coxswain::testing::peer::load_peer_recording(rec);
+    std::printf("peer recording: %zu scans from %s\n", coxswain::perception::peer_scans().size(),
+                rec.string().c_str());
+  } else {
+    std::printf(
+        "peer recording %s absent (set COXSWAIN_SHARED_TESTDATA or put ../shared/testdata beside "
+        "the clone): every benchmark here is skipped\n",
+        rec.string().c_str());
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
