@@ -318,7 +318,7 @@ TEST(MissionTimeLimit, TheCoursesMoveOnWhenTheirTimeRunsOut) {
   EXPECT_TRUE(rig->logged("course1/to_waypoint -> course2/circling: course1 time limit 3 s"))
       << rig->log_text();
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.task_index == 2; }, 3.0));
-  EXPECT_EQ(rig->path(), "course3/seek_open");
+  EXPECT_EQ(rig->path(), "course3/seek_slip");
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 3.0));
   EXPECT_EQ(rig->path(), "finished");
   EXPECT_EQ(rig->out.status.tasks_timed_out, 3U);
@@ -520,7 +520,7 @@ TEST(MissionKaboat2026, ClosedLoopThroughCourseOneAndTwo) {
       << rig->log_text();
   EXPECT_TRUE(rig->logged("course2/seek_colour -> course2/to_waypoint: target colour red"))
       << rig->log_text();
-  EXPECT_TRUE(rig->logged("-> course3/seek_open: reached the course 2 waypoint"))
+  EXPECT_TRUE(rig->logged("-> course3/seek_slip: reached the course 2 waypoint"))
       << rig->log_text();
   EXPECT_EQ(rig->out.command.led, msg::LedColour::kRed);
   EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
@@ -620,51 +620,58 @@ TEST(MissionDocking2022, RefusesWithoutATargetMarker) {
 
 // ---- docking 2026 (course 3) ------------------------------------------------------------------
 
-TEST(MissionCourse3, SteersAtTheMostOpenDirectionInTheForwardHalfPlaneAndStops) {
+TEST(MissionCourse3, HoldsTheCourseForwardUntilASlipShowsAndStopsAtTheDock) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
   c.mission.navigation.course_zero_deg = 0.0;
   auto rig = std::make_unique<Rig>(c);
   rig->live_gnss = false;  // lidar and IMU only
-  // Obstacles close ahead and to port; open water to starboard (40 deg).
+  // Scattered obstacles, no slip (two tips with a deeper inside): the course's forward direction,
+  // not the most open gap (which in a pond is as likely a corner beside the dock).
   add_circle(rig->scan, 3.0, 0.0, 1.0);
   add_circle(rig->scan, 2.0, -2.5, 1.0);
   add_circle(rig->scan, 1.5, 4.0, 0.5);
   rig->run_for(0.4);
-  ASSERT_EQ(rig->path(), "docking/seek_open") << rig->log_text();
-  EXPECT_TRUE(rig->out.viz.has_avoidance);
-  EXPECT_GT(rig->out.viz.avoidance_bearing_body_deg, 20.0);
-  EXPECT_LT(rig->out.viz.avoidance_bearing_body_deg, 65.0);
-  // Pointing 100 deg to starboard, the open water behind the course's half-plane is excluded.
+  ASSERT_EQ(rig->path(), "docking/seek_slip") << rig->log_text();
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 0.0, 1e-9);
+  EXPECT_FALSE(rig->out.viz.has_goal);
+  // Pointing 100 deg to starboard, the boat is turned back to the course's forward direction.
   rig->heading_deg = 100.0;
   rig->scan.clear();
   rig->run_for(0.6);  // the heading filter settles
-  EXPECT_LE(rig->out.viz.avoidance_bearing_body_deg, -10.0);
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 0.0, 1e-9);
+  EXPECT_LT(rig->out.viz.turn_command, 0.0);  // to port
   rig->scan.clear();
   add_wall_ahead(rig->scan, 0.2, 1.0);
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
   EXPECT_TRUE(rig->logged("stopped 0.2"));
 }
 
-TEST(MissionCourse3, ClosedLoopIntoTheDockAtTheEndOfAChannel) {
+TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
   c.mission.tasks[0].time_limit_s = 60.0;
   auto rig = std::make_unique<Rig>(c);
   rig->live_gnss = false;
   rig->move = true;
-  rig->heading_deg = 8.0;  // slightly off the channel axis
-  // A channel 4 m wide running north, closed by the dock's back wall 12 m ahead.
-  for (double n = -4.0; n <= 12.0; n += 0.3) {
-    rig->world_buoys.push_back({{n, -2.0}, 0.15});
-    rig->world_buoys.push_back({{n, 2.0}, 0.15});
+  rig->heading_deg = 8.0;  // slightly off the slip's axis
+  // A slip 2.4 m wide running north, its mouth 5 m ahead, closed by the dock's back wall 12 m
+  // ahead; a quay wall either side of the mouth.
+  for (double n = 5.0; n <= 12.0; n += 0.3) {
+    rig->world_buoys.push_back({{n, -1.2}, 0.15});
+    rig->world_buoys.push_back({{n, 1.2}, 0.15});
   }
-  for (double e = -1.8; e <= 1.8; e += 0.3) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  for (double e = -1.0; e <= 1.0; e += 0.3) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  for (double e = 1.5; e <= 6.0; e += 0.3) {
+    rig->world_buoys.push_back({{5.0, e}, 0.15});
+    rig->world_buoys.push_back({{5.0, -e}, 0.15});
+  }
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 60.0)) << rig->log_text();
   EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
-  EXPECT_TRUE(rig->logged("docking/seek_open -> finished: stopped 0.")) << rig->log_text();
-  EXPECT_GT(rig->position.north_m, 10.5);  // at the back wall, not stopped early
-  EXPECT_LT(std::abs(rig->position.east_m), 1.5);
+  EXPECT_TRUE(rig->logged("-> docking/approach_slip: slip mouth")) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> finished: stopped 0.")) << rig->log_text();
+  EXPECT_GT(rig->position.north_m, 10.5);          // at the back wall, not stopped early
+  EXPECT_LT(std::abs(rig->position.east_m), 0.8);  // inside the slip
   EXPECT_TRUE(rig->neutral());
 }
 
