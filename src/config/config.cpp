@@ -269,6 +269,10 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     c.seek_thrust_frac = m->get("seek_thrust_frac", c.seek_thrust_frac, kFrac);
     c.buoy_range_window_deg = m->get("buoy_range_window_deg", c.buoy_range_window_deg, {0.0, 45.0});
     c.buoy_memory_s = m->get("buoy_memory_s", c.buoy_memory_s, {0.0, 10.0});
+    c.lidar_tracking = m->get("lidar_tracking", c.lidar_tracking);
+    c.buoy_radius_m = m->get("buoy_radius_m", c.buoy_radius_m, {0.0, 5.0});
+    c.track_gate_m = m->get("track_gate_m", c.track_gate_m, kPositive);
+    c.track_timeout_s = m->get("track_timeout_s", c.track_timeout_s, {0.1, 60.0});
     c.buoy_colour = read_colour(*m, "buoy_colour");
     if (!m->has("buoy_colour")) c.buoy_colour = msg::Colour::kPurple;
     if (m->has("colours")) {
@@ -310,11 +314,18 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     d.open_window_deg = m->get("open_window_deg", d.open_window_deg, {0.0, 45.0});
     d.open_max_range_m = m->get("open_max_range_m", d.open_max_range_m, kPositive);
     d.survey_distance_m = m->get("survey_distance_m", d.survey_distance_m, kPositive);
+    d.slip_depth_m = m->get("slip_depth_m", d.slip_depth_m, {0.0, 20.0});
+    d.turn_thrust_frac = m->get("turn_thrust_frac", d.turn_thrust_frac, kFrac);
+    d.line_up_distance_m = m->get("line_up_distance_m", d.line_up_distance_m, {0.0, 50.0});
+    d.marker_fix_gain = m->get("marker_fix_gain", d.marker_fix_gain, {0.0, 1.0});
+    d.max_marker_fix_m = m->get("max_marker_fix_m", d.max_marker_fix_m, {0.0, 10.0});
+    d.slip_match_m = m->get("slip_match_m", d.slip_match_m, kPositive);
     d.commit_range_m = m->get("commit_range_m", d.commit_range_m, kPositive);
     auto& sl = d.slip;
     sl.min_width_m = m->get("slip_min_width_m", sl.min_width_m, kPositive);
     sl.max_width_m = m->get("slip_max_width_m", sl.max_width_m, kPositive);
     sl.min_depth_m = m->get("slip_min_depth_m", sl.min_depth_m, kPositive);
+    sl.max_depth_m = m->get("slip_max_depth_m", sl.max_depth_m, kPositive);
     sl.max_bearing_deg = m->get("slip_max_bearing_deg", sl.max_bearing_deg, {1.0, 180.0});
     check(*m, sl.validate());
     m->finish();
@@ -762,6 +773,10 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "circling_thrust_frac", c2.circling_thrust_frac);
   kv(out, "buoy_range_window_deg", c2.buoy_range_window_deg);
   kv(out, "buoy_memory_s", c2.buoy_memory_s);
+  kv(out, "lidar_tracking", c2.lidar_tracking);
+  kv(out, "buoy_radius_m", c2.buoy_radius_m);
+  kv(out, "track_gate_m", c2.track_gate_m);
+  kv(out, "track_timeout_s", c2.track_timeout_s);
   kv(out, "exit_course_deg", c2.exit_course_deg);
   kv(out, "seek_thrust_frac", c2.seek_thrust_frac);
   kv(out, "colour_timeout_s", c2.colour_timeout_s);
@@ -783,10 +798,17 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "open_window_deg", d.open_window_deg);
   kv(out, "open_max_range_m", d.open_max_range_m);
   kv(out, "survey_distance_m", d.survey_distance_m);
+  kv(out, "slip_depth_m", d.slip_depth_m);
+  kv(out, "turn_thrust_frac", d.turn_thrust_frac);
+  kv(out, "line_up_distance_m", d.line_up_distance_m);
+  kv(out, "marker_fix_gain", d.marker_fix_gain);
+  kv(out, "max_marker_fix_m", d.max_marker_fix_m);
+  kv(out, "slip_match_m", d.slip_match_m);
   kv(out, "commit_range_m", d.commit_range_m);
   kv(out, "slip_min_width_m", d.slip.min_width_m);
   kv(out, "slip_max_width_m", d.slip.max_width_m);
   kv(out, "slip_min_depth_m", d.slip.min_depth_m);
+  kv(out, "slip_max_depth_m", d.slip.max_depth_m);
   kv(out, "slip_max_bearing_deg", d.slip.max_bearing_deg);
   out << YAML::EndMap;
 }

@@ -45,6 +45,7 @@ class Course2Task final : public Task {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;
     circling_.reset();
+    tracked_ = false;
     for (auto& v : votes_) v.reset();
     phase_ = Phase::kCircling;
     set_phase("circling", "task entered");
@@ -74,14 +75,24 @@ class Course2Task final : public Task {
  private:
   TaskResult circle(const TaskContext& ctx, GuidanceRequest& out) {
     guidance::BuoyObservation obs;
+    const msg::Detection* seen = nullptr;
     // An old bearing steered on while the heading changes would overshoot: only recent frames.
     if (ctx.camera != nullptr &&
         core::ns_to_sec(ctx.now_ns - ctx.camera->stamp_ns) <= c_.buoy_memory_s) {
-      if (const msg::Detection* d = largest_of(*ctx.camera, c_.buoy_colour)) {
-        obs.bearing_deg = static_cast<double>(d->bearing_deg);
-        if (ctx.lidar_fresh && ctx.profile != nullptr) {
-          obs.range_m = range_near(*ctx.profile, *obs.bearing_deg, c_.buoy_range_window_deg);
-        }
+      seen = largest_of(*ctx.camera, c_.buoy_colour);
+    }
+    if (c_.lidar_tracking) track(ctx, seen);
+    if (tracked_) {
+      const core::BodyPoint b = core::nav_to_body(ctx.pose, buoy_);
+      obs.bearing_deg = core::rad_to_deg(std::atan2(b.starboard_m, b.forward_m));
+      obs.range_m = std::max(std::hypot(b.forward_m, b.starboard_m) - c_.buoy_radius_m, 0.0);
+      ctx.viz->has_goal = true;
+      ctx.viz->goal = buoy_;
+      ctx.viz->distance_to_go_m = *obs.range_m;
+    } else if (seen != nullptr) {
+      obs.bearing_deg = static_cast<double>(seen->bearing_deg);
+      if (ctx.lidar_fresh && ctx.profile != nullptr) {
+        obs.range_m = range_near(*ctx.profile, *obs.bearing_deg, c_.buoy_range_window_deg);
       }
     }
     const guidance::BuoyCirclingOutput o = circling_.update(ctx.pose.heading_deg, obs);
@@ -96,6 +107,61 @@ class Course2Task final : public Task {
     out.desired_heading_deg = o.desired_heading_deg;
     out.thrust_frac = c_.circling_thrust_frac;
     return TaskResult::kRunning;
+  }
+
+  /// Lidar tracking of the buoy in the navigation frame: found by the camera (bearing) and the
+  /// lidar (range), then followed scan by scan as the nearest small obstacle to where it should
+  /// be. Lost after track_timeout_s unseen; a camera sight far from the track re-acquires it.
+  void track(const TaskContext& ctx, const msg::Detection* seen) {
+    if (tracked_ && core::ns_to_sec(ctx.now_ns - buoy_seen_ns_) > c_.track_timeout_s) {
+      tracked_ = false;
+    }
+    if (seen != nullptr && ctx.lidar_fresh && ctx.profile != nullptr) {
+      const double bearing = static_cast<double>(seen->bearing_deg);
+      bool agrees = false;
+      if (tracked_) {
+        const core::BodyPoint b = core::nav_to_body(ctx.pose, buoy_);
+        const double track_bearing = core::rad_to_deg(std::atan2(b.starboard_m, b.forward_m));
+        agrees = std::abs(core::angle_diff_deg(track_bearing, bearing)) <= 15.0;
+      }
+      if (!agrees) {
+        if (const auto r = range_near(*ctx.profile, bearing, c_.buoy_range_window_deg)) {
+          const double b = core::deg_to_rad(bearing);
+          const double d = *r + c_.buoy_radius_m;
+          buoy_ = core::body_to_nav(ctx.pose, {d * std::cos(b), d * std::sin(b)});
+          tracked_ = true;
+          buoy_seen_ns_ = ctx.now_ns;
+        }
+      }
+    }
+    if (!tracked_ || !ctx.lidar_new || ctx.obstacles == nullptr) return;
+    const core::BodyPoint predicted = core::nav_to_body(ctx.pose, buoy_);
+    double best_m = c_.track_gate_m;
+    std::optional<core::BodyPoint> best;
+    for (std::uint32_t i = 0; i < ctx.obstacles->count; ++i) {
+      const perception::ObstacleSegment& seg = ctx.obstacles->segments[i];
+      const double x = 0.5 * (seg.begin.forward_m + seg.end.forward_m);
+      const double y = 0.5 * (seg.begin.starboard_m + seg.end.starboard_m);
+      const double length = std::hypot(seg.end.forward_m - seg.begin.forward_m,
+                                       seg.end.starboard_m - seg.begin.starboard_m);
+      if (length > 2.0 * c_.buoy_radius_m + 0.3) continue;  // a wall piece, not the buoy
+      // The lidar sees the near side: the centre is a radius farther along the ray.
+      const double r = std::hypot(x, y);
+      if (!(r > 0.0)) continue;
+      const core::BodyPoint centre{x * (r + c_.buoy_radius_m) / r, y * (r + c_.buoy_radius_m) / r};
+      const double miss = std::hypot(centre.forward_m - predicted.forward_m,
+                                     centre.starboard_m - predicted.starboard_m);
+      if (miss < best_m) {
+        best_m = miss;
+        best = centre;
+      }
+    }
+    if (!best) return;
+    const core::NavPoint measured = core::body_to_nav(ctx.pose, *best);
+    constexpr double kAlpha = 0.5;
+    buoy_.north_m += kAlpha * (measured.north_m - buoy_.north_m);
+    buoy_.east_m += kAlpha * (measured.east_m - buoy_.east_m);
+    buoy_seen_ns_ = ctx.now_ns;
   }
 
   TaskResult seek(const TaskContext& ctx, GuidanceRequest& out) {
@@ -146,6 +212,9 @@ class Course2Task final : public Task {
   std::size_t colour_count_ = 0;
   Phase phase_ = Phase::kCircling;
   core::TimeNs seek_since_ns_ = 0;
+  bool tracked_ = false;  // the buoy's position is known (lidar track)
+  core::NavPoint buoy_;
+  core::TimeNs buoy_seen_ns_ = 0;
 };
 
 }  // namespace

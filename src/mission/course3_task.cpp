@@ -27,7 +27,7 @@ namespace {
 class Course3Task final : public Task {
  public:
   Course3Task(const config::TaskConfig& t, const config::MissionConfig& m)
-      : Task(t.name), d_(m.docking), approach_(m.docking.approach) {
+      : Task(t.name), d_(m.docking), slip_(slip_line_params(m)) {
     check(m.docking.approach.validate());
     check(m.docking.slip.validate());
   }
@@ -39,6 +39,7 @@ class Course3Task final : public Task {
     if (!ctx.lidar_fresh) return reason_printf("no lidar scan");
     seen_ = false;
     committed_ = false;
+    slip_.reset();
     set_phase("seek_slip", "task entered");
     return {};
   }
@@ -54,28 +55,8 @@ class Course3Task final : public Task {
     const double forward_true = control::true_from_course_deg(0.0, ctx.course_zero_deg);
     if (ctx.lidar_new && !committed_) {
       const double forward_body = core::angle_diff_deg(forward_true, ctx.pose.heading_deg);
-      if (const auto s = guidance::find_slip(p, d_.slip, forward_body)) {
-        // Into the navigation frame, so a scan that misses the mouth does not lose it; the
-        // smoothing rides out single-bin jitter of the tips.
-        const double h = core::deg_to_rad(ctx.pose.heading_deg);
-        const core::NavPoint mouth{
-            ctx.pose.position.north_m + s->mouth_x_m * std::cos(h) - s->mouth_y_m * std::sin(h),
-            ctx.pose.position.east_m + s->mouth_x_m * std::sin(h) + s->mouth_y_m * std::cos(h)};
-        const double axis = core::wrap_deg(ctx.pose.heading_deg + s->axis_body_deg);
-        if (!seen_) {
-          mouth_ = mouth;
-          axis_true_deg_ = axis;
-        } else {
-          constexpr double kAlpha = 0.3;
-          mouth_.north_m += kAlpha * (mouth.north_m - mouth_.north_m);
-          mouth_.east_m += kAlpha * (mouth.east_m - mouth_.east_m);
-          axis_true_deg_ =
-              core::wrap_deg(axis_true_deg_ + kAlpha * core::angle_diff_deg(axis, axis_true_deg_));
-        }
-        const double a = core::deg_to_rad(axis_true_deg_);
-        const double back_m = 4.0;  // the ray starts this far out on the axis
-        (void)approach_.set_ray(
-            {mouth_.north_m - back_m * std::cos(a), mouth_.east_m - back_m * std::sin(a)}, mouth_);
+      if (const auto s = guidance::find_slip(p, d_.slip, forward_body);
+          s && slip_.update(ctx.pose, *s)) {
         const double mouth_m = std::hypot(s->mouth_x_m, s->mouth_y_m);
         if (!seen_) {
           seen_ = true;
@@ -86,19 +67,19 @@ class Course3Task final : public Task {
           committed_ = true;
           set_phase("enter_slip", reason_printf("mouth %.2f m away: holding the slip's axis "
                                                 "%.0f deg",
-                                                mouth_m, axis_true_deg_));
+                                                mouth_m, slip_.axis_true_deg()));
         }
       }
     }
     out.steer = true;
     out.desired_heading_deg = forward_true;
-    if (committed_) {
-      out.desired_heading_deg = axis_true_deg_;
-    } else if (seen_) {
-      out.desired_heading_deg = approach_.pursue(ctx.pose, std::nullopt).desired_heading_deg;
+    if (seen_) {
+      // Committed (mouth close): the track is no longer updated; the line still steers.
+      constexpr double kRayStartM = 4.0;
+      out.desired_heading_deg = slip_.follow_heading_deg(ctx.pose, kRayStartM, ctx.now_ns);
       ctx.viz->has_goal = true;
-      ctx.viz->goal = mouth_;
-      ctx.viz->distance_to_go_m = core::distance_m(ctx.pose.position, mouth_);
+      ctx.viz->goal = slip_.mouth();
+      ctx.viz->distance_to_go_m = core::distance_m(ctx.pose.position, slip_.mouth());
     }
     out.thrust_frac = d_.approach_thrust_frac;
     return TaskResult::kRunning;
@@ -106,11 +87,9 @@ class Course3Task final : public Task {
 
  private:
   config::DockingConfig d_;
-  guidance::DockingApproach approach_;
+  SlipTracker slip_;
   bool seen_ = false;
   bool committed_ = false;
-  core::NavPoint mouth_;
-  double axis_true_deg_ = 0.0;
 };
 
 }  // namespace

@@ -1,6 +1,4 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "task_common.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -8,44 +6,69 @@
 #include <stdexcept>
 #include <string>
 
-#include "coxswain/control/heading_reference.hpp"
 #include "coxswain/core/angles.hpp"
-#include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/perception/marker_vote.hpp"
+#include "task_common.hpp"
 
 namespace coxswain::mission::detail {
 
 namespace {
 
-/// Visit each slip's decision point, face its marker and vote; enter the target slip by ray
-/// pursuit; stop by lidar.
+core::NavPoint along(core::NavPoint p, double heading_deg, double distance_m) {
+  const double h = core::deg_to_rad(heading_deg);
+  return {p.north_m + distance_m * std::cos(h), p.east_m + distance_m * std::sin(h)};
+}
+
+/// KABOAT 2022 docking. Every camera frame votes, for each slip whose marker it shows, whether
+/// that marker is the target (markers are told apart by where the map puts them, or by their
+/// order across the frame); so the target is usually known from the survey point in front of
+/// the docks. Otherwise the documents' process: visit each slip's decision point, face its
+/// marker and vote. The target slip is entered by ray pursuit along its axis, the axis shifted
+/// sideways by the camera's fix of the marker (the GNSS error is larger than the slip's room),
+/// and the boat stops by lidar.
 class Docking2022Task final : public Task {
  public:
   static constexpr std::size_t kMaxSlips = 8;
-  enum class Phase : std::uint8_t { kGoto, kFace, kEnter };
+  // A mouth whose slip's marker is within this of the camera's sight is the target's: the gap
+  // between two docks, 1.5 m aside, is 14 deg off even from 6 m.
+  static constexpr double kMarkerOverMouthDeg = 6.0;
+  static constexpr double kAxisToleranceDeg = 20.0;
+  enum class Phase : std::uint8_t { kSurvey, kGoto, kFace, kEnter };
 
   Docking2022Task(const config::TaskConfig& t, const config::MissionConfig& m,
                   const core::LocalFrame& frame)
       : Task(t.name),
         d_(m.docking),
-        waypoint_params_(m.waypoints),
         follower_(m.waypoints),
-        vote_(m.vision_vote),
         approach_(m.docking.approach),
+        slip_tracker_(slip_line_params(m)),
         dock_heading_deg_(t.dock_heading_deg),
         config_colour_(t.target_colour),
         config_shape_(t.target_shape) {
     check(m.docking.approach.validate());
+    const std::string vote_problem = m.vision_vote.validate();
+    if (!vote_problem.empty()) throw std::invalid_argument(vote_problem);
+    std::string error;
+    auto av = guidance::Avoidance::create(m.avoidance, &error);
+    if (!av) throw std::invalid_argument("avoidance: " + error);
+    avoidance_.emplace(std::move(*av));
     slip_count_ = std::min(t.slips.size(), kMaxSlips);
-    const double c = std::cos(core::deg_to_rad(t.dock_heading_deg));
-    const double s = std::sin(core::deg_to_rad(t.dock_heading_deg));
+    core::NavPoint centre;
     for (std::size_t i = 0; i < slip_count_; ++i) {
       slips_[i] = frame.to_nav(t.slips[i]);
-      decision_[i] = {slips_[i].north_m - d_.decision_distance_m * c,
-                      slips_[i].east_m - d_.decision_distance_m * s};
+      markers_[i] = along(slips_[i], dock_heading_deg_, d_.slip_depth_m);
+      decision_[i] = along(slips_[i], dock_heading_deg_, -d_.decision_distance_m);
+      line_up_[i] = along(decision_[i], dock_heading_deg_, -d_.line_up_distance_m);
+      votes_[i] = perception::MarkerVote(m.vision_vote);
+      centre.north_m += slips_[i].north_m / static_cast<double>(slip_count_);
+      centre.east_m += slips_[i].east_m / static_cast<double>(slip_count_);
     }
+    survey_ = along(centre, dock_heading_deg_, -d_.survey_distance_m);
+    const double h = core::deg_to_rad(dock_heading_deg_);
+    axis_ = {std::cos(h), std::sin(h)};
+    side_ = {-std::sin(h), std::cos(h)};
   }
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
@@ -61,50 +84,45 @@ class Docking2022Task final : public Task {
           "interface)");
     }
     if (slip_count_ == 0) return reason_printf("no slips configured");
+    for (std::size_t i = 0; i < slip_count_; ++i) votes_[i].reset();
     ratio_.fill(-1.0);
+    target_slip_.reset();
+    fix_m_ = 0.0;
     approach_.reset();
+    avoidance_->reset();
     ctx.status->docking_slip = -1;
-    goto_slip(
-        ctx, 0,
-        reason_printf("looking for the %s %s", std::string_view(msg::colour_name(colour_)).data(),
-                      std::string_view(msg::shape_name(shape_)).data()));
+    phase_ = Phase::kSurvey;
+    const std::array<core::NavPoint, 1> route{survey_};
+    (void)follower_.set_route(route);
+    set_phase("survey", reason_printf("looking for the %s %s",
+                                      std::string_view(msg::colour_name(colour_)).data(),
+                                      std::string_view(msg::shape_name(shape_)).data()));
     return {};
   }
 
   TaskResult step(const TaskContext& ctx, GuidanceRequest& out) override {
-    if (phase_ == Phase::kGoto) {
-      const guidance::WaypointGuidance g = follower_.update(ctx.antenna, ctx.now_ns);
-      viz_goal(ctx, decision_[slip_]);
-      if (g.finished) {
+    observe(ctx);
+    switch (phase_) {
+      case Phase::kSurvey:
+        if (target_slip_) return goto_target(ctx, out);
+        if (follow(ctx, survey_, out)) return TaskResult::kRunning;
+        goto_slip(0, reason_printf("survey point reached undecided; visiting the slips"));
+        out.steer = false;
+        return TaskResult::kRunning;
+      case Phase::kGoto:
+        if (target_slip_ && *target_slip_ != slip_) return goto_target(ctx, out);
+        if (follow(ctx, decision_[slip_], out)) return TaskResult::kRunning;
         phase_ = Phase::kFace;
-        face_since_ns_ = ctx.now_ns;
-        vote_.reset();
+        face_since_ns_ = core::kNeverNs;
         set_phase(slip_phase("face_slip").view(),
                   reason_printf("at the decision point of slip %zu", slip_ + 1));
-      } else {
-        out.steer = true;
-        out.desired_heading_deg = g.desired_heading_deg;
-        out.schedule_distance_m = g.distance_to_go_m;
-        return TaskResult::kRunning;
-      }
+        return face(ctx, out);
+      case Phase::kFace:
+        return face(ctx, out);
+      case Phase::kEnter:
+        break;
     }
-    if (phase_ == Phase::kFace) return face(ctx, out);
-    // Enter by ray pursuit; the stop is latched by the lidar range ahead.
-    std::optional<double> ahead;
-    if (ctx.lidar_fresh && ctx.profile != nullptr) {
-      ahead = guidance::min_range_ahead_m(*ctx.profile, d_.approach.ahead_half_angle_deg);
-    }
-    const guidance::DockingCommand c = approach_.pursue(ctx.pose, ahead);
-    viz_goal(ctx, slips_[slip_]);
-    if (c.stop) {
-      set_reason(
-          reason_printf("docked in slip %zu (%.2f m ahead)", slip_ + 1, ahead ? *ahead : -1.0));
-      return TaskResult::kDone;
-    }
-    out.steer = true;
-    out.desired_heading_deg = c.desired_heading_deg;
-    out.thrust_frac = d_.approach_thrust_frac;
-    return TaskResult::kRunning;
+    return enter_step(ctx, out);
   }
 
  private:
@@ -120,54 +138,182 @@ class Docking2022Task final : public Task {
     ctx.viz->distance_to_go_m = core::distance_m(ctx.antenna, p);
   }
 
-  void goto_slip(const TaskContext& ctx, std::size_t i, const ReasonText& why) {
+  /// The pose in the map's frame: the raw estimate moved by the camera's sideways fix.
+  [[nodiscard]] core::NavPoint corrected(core::NavPoint p) const {
+    return {p.north_m - fix_m_ * side_.north_m, p.east_m - fix_m_ * side_.east_m};
+  }
+
+  /// One camera frame: each dock marker in it is matched to a slip (by where the map puts it, or
+  /// by the markers' order across the frame). That slip gets a vote, "seen" when the marker is the
+  /// target; slips whose marker is not in the frame get none, so a slip is judged only on frames
+  /// that show it. Every matched marker also fixes the boat's sideways position against the map:
+  /// the GNSS error (a metre or more) is larger than a slip's spare room.
+  void observe(const TaskContext& ctx) {
+    if (!ctx.camera_new || ctx.camera == nullptr) return;
+    std::array<double, msg::CameraDetections::kMaxDetections> bearings{};
+    std::array<bool, msg::CameraDetections::kMaxDetections> is_target{};
+    std::size_t n = 0;
+    const std::size_t count =
+        std::min<std::size_t>(ctx.camera->count, msg::CameraDetections::kMaxDetections);
+    for (std::size_t k = 0; k < count; ++k) {
+      const msg::Detection& det = ctx.camera->detections[k];
+      if (det.shape == msg::Shape::kUnknown || det.shape == msg::Shape::kBuoy) continue;
+      bearings[n] = static_cast<double>(det.bearing_deg);
+      is_target[n] = det.colour == colour_ && det.shape == shape_;
+      ++n;
+    }
+    if (n == 0) return;
+    const core::NavPoint boat = corrected(ctx.pose.position);
+    std::array<double, kMaxSlips> expected{};
+    for (std::size_t i = 0; i < slip_count_; ++i) {
+      expected[i] =
+          core::angle_diff_deg(core::bearing_deg(boat, markers_[i]), ctx.pose.heading_deg);
+    }
+    std::array<bool, kMaxSlips> shown{};
+    std::array<bool, kMaxSlips> target_shown{};
+    const std::span<const double> marker_span(bearings.data(), n);
+    const std::span<const double> slip_span(expected.data(), slip_count_);
+    double fix_sum_m = 0.0;
+    std::size_t fixes = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (phase_ == Phase::kEnter && is_target[k]) {
+        // The target marker is unique: its bearing picks the slip's mouth out of the lidar
+        // profile, whatever the map says.
+        marker_true_deg_ = core::wrap_deg(ctx.pose.heading_deg + bearings[k]);
+        marker_seen_ns_ = ctx.camera->stamp_ns;
+      }
+      const auto j = guidance::slip_of_marker(marker_span, k, slip_span, d_.marker_window_deg);
+      if (!j) continue;
+      shown[*j] = true;
+      target_shown[*j] = target_shown[*j] || is_target[k];
+      // While entering, only the target's own marker fixes the pose.
+      if (phase_ == Phase::kEnter && (*j != slip_ || !is_target[k])) continue;
+      if (const auto f = sideways_fix(ctx, *j, bearings[k])) {
+        fix_sum_m += *f;
+        ++fixes;
+      }
+    }
+    if (fixes > 0) {
+      fix_m_ += d_.marker_fix_gain * (fix_sum_m / static_cast<double>(fixes) - fix_m_);
+      fix_m_ = std::clamp(fix_m_, -d_.max_marker_fix_m, d_.max_marker_fix_m);
+    }
+    if (phase_ == Phase::kEnter) return;
+    for (std::size_t i = 0; i < slip_count_; ++i) {
+      if (shown[i]) (void)votes_[i].add(ctx.camera->stamp_ns, target_shown[i]);
+    }
+    if (target_slip_) return;
+    for (std::size_t i = 0; i < slip_count_; ++i) {
+      const perception::VoteTally t = votes_[i].tally(ctx.now_ns);
+      if (t.frames > 0) ratio_[i] = t.ratio;
+      if (t.decided) {
+        target_slip_ = i;
+        decided_hits_ = t.hits;
+        decided_frames_ = t.frames;
+        return;
+      }
+    }
+  }
+
+  /// The sideways offset (along `side_`) between where the raw pose and the camera put slip
+  /// `j`'s marker and where the map has it; empty when the sight is too close or too oblique.
+  [[nodiscard]] std::optional<double> sideways_fix(const TaskContext& ctx, std::size_t j,
+                                                   double bearing_body_deg) const {
+    const core::NavPoint boat = corrected(ctx.pose.position);
+    const double ahead_m = (markers_[j].north_m - boat.north_m) * axis_.north_m +
+                           (markers_[j].east_m - boat.east_m) * axis_.east_m;
+    const double sight_deg =
+        core::angle_diff_deg(ctx.pose.heading_deg + bearing_body_deg, dock_heading_deg_);
+    // Close in, the marker fills the frame and its centre is no longer a sharp fix.
+    if (ahead_m < 1.0 || std::abs(sight_deg) > 60.0) return std::nullopt;
+    const double across_m = ahead_m * std::tan(core::deg_to_rad(sight_deg));
+    const double boat_side_m = (ctx.pose.position.north_m - markers_[j].north_m) * side_.north_m +
+                               (ctx.pose.position.east_m - markers_[j].east_m) * side_.east_m;
+    return boat_side_m + across_m;
+  }
+
+  /// Waypoint following to `goal` with lidar avoidance; false once there.
+  bool follow(const TaskContext& ctx, core::NavPoint goal, GuidanceRequest& out) {
+    const guidance::WaypointGuidance g = follower_.update(corrected(ctx.antenna), ctx.now_ns);
+    viz_goal(ctx, goal);
+    if (g.finished) return false;
+    out.steer = true;
+    out.desired_heading_deg = g.desired_heading_deg;
+    out.schedule_distance_m = g.distance_to_go_m;
+    if (ctx.lidar_fresh && ctx.obstacles != nullptr) {
+      // Only what lies before the goal is in the way: the docks behind a decision point are not.
+      const double reach_m = g.distance_to_go_m + 0.5;
+      near_.clear();
+      near_.stamp_ns = ctx.obstacles->stamp_ns;
+      for (std::uint32_t i = 0; i < ctx.obstacles->count; ++i) {
+        const perception::ObstacleSegment& s = ctx.obstacles->segments[i];
+        if (static_cast<double>(s.closest_range_m) <= reach_m) (void)near_.push(s);
+      }
+      const double goal_body = core::angle_diff_deg(g.desired_heading_deg, ctx.pose.heading_deg);
+      const guidance::AvoidanceDecision d = avoidance_->decide(near_, goal_body, ctx.now_ns);
+      out.desired_heading_deg = core::wrap_deg(ctx.pose.heading_deg + d.bearing_body_deg);
+      out.speed_factor = d.speed_factor;
+      VizFrame& v = *ctx.viz;
+      v.has_avoidance = true;
+      v.avoidance_bearing_body_deg = d.bearing_body_deg;
+      v.avoidance_status = static_cast<std::uint8_t>(d.status);
+    }
+    return true;
+  }
+
+  /// To the decision point of slip `i`, lined up on its axis from behind.
+  void goto_slip(std::size_t i, const ReasonText& why) {
     slip_ = i;
     phase_ = Phase::kGoto;
-    const std::array<core::NavPoint, 1> route{decision_[i]};
+    avoidance_->reset();
+    const std::array<core::NavPoint, 2> route{line_up_[i], decision_[i]};
     (void)follower_.set_route(route);
-    (void)ctx;
     set_phase(slip_phase("goto_slip").view(), why.view());
+  }
+
+  TaskResult goto_target(const TaskContext& ctx, GuidanceRequest& out) {
+    const std::size_t i = *target_slip_;
+    ctx.status->docking_slip = static_cast<std::int32_t>(i);
+    const ReasonText why = reason_printf("target marker at slip %zu (%zu of %zu frames)", i + 1,
+                                         decided_hits_, decided_frames_);
+    // Already in front of it (facing it at its decision point): in at once.
+    if (phase_ == Phase::kFace && slip_ == i) return enter_slip(ctx, i, why);
+    goto_slip(i, why);
+    out.steer = false;
+    return TaskResult::kRunning;
   }
 
   TaskResult enter_slip(const TaskContext& ctx, std::size_t i, const ReasonText& why) {
     slip_ = i;
     phase_ = Phase::kEnter;
     ctx.status->docking_slip = static_cast<std::int32_t>(i);
+    approach_.reset();
+    slip_tracker_.reset();
+    committed_ = false;
+    marker_seen_ns_ = core::kNeverNs;
     if (!approach_.set_ray(decision_[i], slips_[i])) {
       set_reason(reason_printf("slip %zu: decision point equals the slip", i + 1));
       return TaskResult::kFailed;
     }
-    approach_.reset();
     set_phase(slip_phase("enter_slip").view(), why.view());
     return TaskResult::kRunning;
   }
 
   TaskResult face(const TaskContext& ctx, GuidanceRequest& out) {
+    if (target_slip_) {
+      if (*target_slip_ != slip_) return goto_target(ctx, out);
+    }
     const double err = core::angle_diff_deg(dock_heading_deg_, ctx.pose.heading_deg);
     const bool facing = std::abs(err) <= d_.face_tolerance_deg;
-    if (facing && ctx.camera_new && ctx.camera != nullptr) {
-      bool seen = false;
-      const std::uint32_t n =
-          std::min<std::uint32_t>(ctx.camera->count, msg::CameraDetections::kMaxDetections);
-      for (std::uint32_t k = 0; k < n; ++k) {
-        const msg::Detection& det = ctx.camera->detections[k];
-        // A neighbouring slip's marker is in the frame too, off to the side: not this slip's.
-        const bool centred = std::abs(static_cast<double>(det.bearing_deg)) <= d_.marker_window_deg;
-        seen = seen || (centred && det.colour == colour_ && det.shape == shape_);
-      }
-      (void)vote_.add(ctx.camera->stamp_ns, seen);
-    }
-    const perception::VoteTally t = vote_.tally(ctx.now_ns);
-    ratio_[slip_] = t.ratio;
-    if (t.decided) {
-      return enter_slip(ctx, slip_,
-                        reason_printf("target marker at slip %zu (%zu of %zu frames)", slip_ + 1,
-                                      t.hits, t.frames));
-    }
-    if (core::ns_to_sec(ctx.now_ns - face_since_ns_) >= d_.face_time_s) {
+    if (facing && target_slip_) return goto_target(ctx, out);
+    // The look is timed from when the boat faces the slip, not from its arrival: a slow turn
+    // must not eat the look.
+    if (facing && face_since_ns_ == core::kNeverNs) face_since_ns_ = ctx.now_ns;
+    if (face_since_ns_ != core::kNeverNs &&
+        core::ns_to_sec(ctx.now_ns - face_since_ns_) >= d_.face_time_s) {
+      const double r = std::max(ratio_[slip_], 0.0);
       if (slip_ + 1 < slip_count_) {
-        goto_slip(ctx, slip_ + 1,
-                  reason_printf("slip %zu is not the target (ratio %.2f)", slip_ + 1, t.ratio));
+        goto_slip(slip_ + 1,
+                  reason_printf("slip %zu is not the target (ratio %.2f)", slip_ + 1, r));
         out.steer = false;
         return TaskResult::kRunning;
       }
@@ -177,38 +323,112 @@ class Docking2022Task final : public Task {
         if (ratio_[i] > ratio_[best]) best = i;
       }
       if (ratio_[best] > 0.0) {
-        return enter_slip(ctx, best,
-                          reason_printf("no slip decided; slip %zu has the best "
-                                        "ratio %.2f",
-                                        best + 1, ratio_[best]));
+        const ReasonText why = reason_printf("no slip decided; slip %zu has the best ratio %.2f",
+                                             best + 1, ratio_[best]);
+        if (best == slip_) return enter_slip(ctx, best, why);
+        target_slip_ = best;
+        goto_slip(best, why);
+        out.steer = false;
+        return TaskResult::kRunning;
       }
       set_reason(reason_printf("target marker not seen at any slip"));
       return TaskResult::kFailed;
     }
-    // Turn toward the marker slowly; once facing, drift while the votes come in.
+    viz_goal(ctx, markers_[slip_]);
     out.steer = true;
     out.desired_heading_deg = dock_heading_deg_;
-    out.thrust_frac = facing ? 0.0 : d_.approach_thrust_frac * 0.5;
+    out.thrust_frac = facing ? 0.0 : d_.turn_thrust_frac;
+    return TaskResult::kRunning;
+  }
+
+  /// Ray pursuit into the slip from the camera-fixed pose; the stop is latched by the lidar
+  /// range ahead, and the boat slows as that range falls so it does not coast into the back.
+  TaskResult enter_step(const TaskContext& ctx, GuidanceRequest& out) {
+    std::optional<double> ahead;
+    if (ctx.lidar_fresh && ctx.profile != nullptr) {
+      ahead = guidance::min_range_ahead_m(*ctx.profile, d_.approach.ahead_half_angle_deg);
+    }
+    core::NavPose pose = ctx.pose;
+    pose.position = corrected(ctx.pose.position);
+    if (ctx.lidar_new && ctx.profile != nullptr && !committed_) {
+      // The chosen slip's mouth where the camera-fixed map puts it; its neighbours are a slip
+      // width and more away.
+      const core::BodyPoint expected = core::nav_to_body(pose, slips_[slip_]);
+      const double axis_body_deg = core::angle_diff_deg(dock_heading_deg_, ctx.pose.heading_deg);
+      // The docks' heading is known: only a compass error turns a slip's axis away from it.
+      guidance::SlipFinderParams finder = d_.slip;
+      finder.max_axis_deg = std::min(finder.max_axis_deg, kAxisToleranceDeg);
+      // Best: the mouth under the target marker the camera sees now (all relative to the bow);
+      // else the mouth where the camera-fixed map puts it.
+      const bool marker_recent =
+          marker_seen_ns_ != core::kNeverNs && core::ns_to_sec(ctx.now_ns - marker_seen_ns_) <= 0.5;
+      std::optional<guidance::SlipOpening> s;
+      if (marker_recent) {
+        s = guidance::find_slip_toward(*ctx.profile, finder, axis_body_deg,
+                                       core::angle_diff_deg(marker_true_deg_, ctx.pose.heading_deg),
+                                       d_.slip_depth_m, kMarkerOverMouthDeg);
+      }
+      if (!s) {
+        s = guidance::find_slip_near(*ctx.profile, finder, axis_body_deg, expected,
+                                     d_.slip_match_m);
+      }
+      if (s && slip_tracker_.update(ctx.pose, *s)) {
+        committed_ = std::hypot(s->mouth_x_m, s->mouth_y_m) < d_.commit_range_m;
+      }
+    }
+    guidance::DockingCommand c = approach_.pursue(pose, ahead);
+    // The lidar's own sight of the mouth beats the map: it is where the boat's pose puts it.
+    if (slip_tracker_.seen()) {
+      c.desired_heading_deg =
+          slip_tracker_.follow_heading_deg(ctx.pose, d_.decision_distance_m, ctx.now_ns);
+    }
+    if (c.stop) {
+      set_reason(reason_printf("docked in slip %zu (%.2f m ahead, camera fix %.2f m, %s)",
+                               slip_ + 1, ahead ? *ahead : -1.0, fix_m_,
+                               slip_tracker_.seen() ? "lidar mouth" : "map"));
+      return TaskResult::kDone;
+    }
+    out.steer = true;
+    out.desired_heading_deg = c.desired_heading_deg;
+    out.thrust_frac = d_.approach_thrust_frac;
+    if (ahead) {
+      const double slow_m = 1.5;  // from this range ahead down to the stop, ease off
+      out.speed_factor = std::clamp((*ahead - d_.approach.stop_range_m) / slow_m, 0.6, 1.0);
+    }
     return TaskResult::kRunning;
   }
 
   config::DockingConfig d_;
-  guidance::WaypointFollowerParams waypoint_params_;
   guidance::WaypointFollower follower_;
-  perception::MarkerVote vote_;
   guidance::DockingApproach approach_;
+  SlipTracker slip_tracker_;
+  std::optional<guidance::Avoidance> avoidance_;
+  perception::ObstacleList near_;
   double dock_heading_deg_;
   msg::Colour config_colour_;
   msg::Shape config_shape_;
   msg::Colour colour_ = msg::Colour::kUnknown;
   msg::Shape shape_ = msg::Shape::kUnknown;
   std::array<core::NavPoint, kMaxSlips> slips_{};
+  std::array<core::NavPoint, kMaxSlips> markers_{};
   std::array<core::NavPoint, kMaxSlips> decision_{};
+  std::array<core::NavPoint, kMaxSlips> line_up_{};
+  std::array<perception::MarkerVote, kMaxSlips> votes_;
   std::array<double, kMaxSlips> ratio_{};
+  core::NavPoint survey_;
   std::size_t slip_count_ = 0;
   std::size_t slip_ = 0;
-  Phase phase_ = Phase::kGoto;
-  core::TimeNs face_since_ns_ = 0;
+  std::optional<std::size_t> target_slip_;
+  std::size_t decided_hits_ = 0;
+  std::size_t decided_frames_ = 0;
+  core::NavPoint axis_;           // unit vector into the slips
+  core::NavPoint side_;           // unit vector to starboard of the axis
+  double fix_m_ = 0.0;            // the camera's sideways fix of the GNSS position
+  bool committed_ = false;        // mouth close: holding the slip's axis
+  double marker_true_deg_ = 0.0;  // last camera sight of the target marker, while entering
+  core::TimeNs marker_seen_ns_ = core::kNeverNs;
+  Phase phase_ = Phase::kSurvey;
+  core::TimeNs face_since_ns_ = core::kNeverNs;
 };
 
 }  // namespace

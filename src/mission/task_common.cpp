@@ -116,4 +116,43 @@ std::unique_ptr<Task> make_task(const config::TaskConfig& task, const config::Mi
   throw std::invalid_argument("unknown task type");
 }
 
+guidance::LineFollowParams slip_line_params(const config::MissionConfig& m) {
+  guidance::LineFollowParams p = m.waypoints.line;
+  p.lookahead_m = m.docking.approach.lookahead_m;
+  return p;
+}
+
+bool SlipTracker::update(const core::NavPose& pose, const guidance::SlipOpening& s) {
+  const core::NavPoint mouth = core::body_to_nav(pose, {s.mouth_x_m, s.mouth_y_m});
+  const double axis = core::wrap_deg(pose.heading_deg + s.axis_body_deg);
+  if (seen_ && core::distance_m(mouth, mouth_) > kGateM && ++rejected_ < kRestartAfter) {
+    return false;
+  }
+  if (!seen_ || rejected_ >= kRestartAfter) {
+    mouth_ = mouth;
+    axis_true_deg_ = axis;
+    seen_ = true;
+    rejected_ = 0;
+    return true;
+  }
+  rejected_ = 0;
+  constexpr double kAlpha = 0.3;
+  mouth_.north_m += kAlpha * (mouth.north_m - mouth_.north_m);
+  mouth_.east_m += kAlpha * (mouth.east_m - mouth_.east_m);
+  axis_true_deg_ =
+      core::wrap_deg(axis_true_deg_ + kAlpha * core::angle_diff_deg(axis, axis_true_deg_));
+  return true;
+}
+
+double SlipTracker::follow_heading_deg(const core::NavPose& pose, double ray_start_m,
+                                       core::TimeNs now_ns) {
+  const double a = core::deg_to_rad(axis_true_deg_);
+  const core::NavPoint from{mouth_.north_m - ray_start_m * std::cos(a),
+                            mouth_.east_m - ray_start_m * std::sin(a)};
+  const core::NavPoint to{mouth_.north_m + std::cos(a), mouth_.east_m + std::sin(a)};
+  const double dt_s = last_ns_ == core::kNeverNs ? 0.0 : core::ns_to_sec(now_ns - last_ns_);
+  last_ns_ = now_ns;
+  return line_.update(from, to, pose.position, dt_s).desired_heading_deg;
+}
+
 }  // namespace coxswain::mission::detail

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "tasks.hpp"
 
@@ -76,6 +77,46 @@ class RouteLeg {
 };
 
 ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m);
+
+/// Line following into a slip: the mission's line-following gains, the docking look-ahead.
+guidance::LineFollowParams slip_line_params(const config::MissionConfig& m);
+
+/// A slip mouth seen by the lidar, kept in the navigation frame so a scan that misses it does not
+/// lose it, smoothed so single-bin jitter of the tips does not steer. Positions from the pose the
+/// scan was taken with: a GNSS or compass error moves the boat and the mouth alike, so steering
+/// on the pair is as good as the lidar.
+class SlipTracker {
+ public:
+  explicit SlipTracker(const guidance::LineFollowParams& line = {}) : line_(line) {}
+  void reset() {
+    seen_ = false;
+    rejected_ = 0;
+    line_.reset();
+    last_ns_ = core::kNeverNs;
+  }
+  /// Adds one sighting (body frame of `pose`). A sighting more than kGateM from the track is a
+  /// different gap and ignored, unless the track has seen nothing else for kRestartAfter scans.
+  /// Returns whether it was taken.
+  bool update(const core::NavPose& pose, const guidance::SlipOpening& s);
+  [[nodiscard]] bool seen() const { return seen_; }
+  [[nodiscard]] core::NavPoint mouth() const { return mouth_; }
+  [[nodiscard]] double axis_true_deg() const { return axis_true_deg_; }
+  /// Line following (ILOS: the integral takes out a side current's crab) along the slip's axis,
+  /// from `ray_start_m` outside the mouth to its inside, so the boat lines up before the mouth
+  /// instead of cutting the corner. `now_ns` times the integral.
+  [[nodiscard]] double follow_heading_deg(const core::NavPose& pose, double ray_start_m,
+                                          core::TimeNs now_ns);
+
+ private:
+  static constexpr double kGateM = 1.0;
+  static constexpr int kRestartAfter = 10;
+  bool seen_ = false;
+  int rejected_ = 0;
+  core::NavPoint mouth_;
+  double axis_true_deg_ = 0.0;
+  guidance::LineFollower line_;
+  core::TimeNs last_ns_ = core::kNeverNs;
+};
 
 std::unique_ptr<Task> make_hopping_task(const config::TaskConfig& t, const config::MissionConfig& m,
                                         const core::LocalFrame& frame);

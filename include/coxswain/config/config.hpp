@@ -188,6 +188,12 @@ struct Course2Config {
   double seek_thrust_frac = 0.4;
   double buoy_range_window_deg = 3.0;  // lidar bins either side of the camera bearing
   double buoy_memory_s = 0.25;         // a camera bearing older than this is not steered on
+  // Once the camera has found the buoy, the lidar tracks it all the way round (a camera looking
+  // ahead, or a side camera in a tight turn, loses it for most of the circle).
+  bool lidar_tracking = true;
+  double buoy_radius_m = 0.3;    // the buoy's radius: the lidar sees its near side
+  double track_gate_m = 1.0;     // a lidar obstacle this near the predicted buoy is the buoy
+  double track_timeout_s = 2.0;  // unseen by the lidar this long: lost, search with the camera
   std::vector<msg::Colour> colours{msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue};
   msg::Colour buoy_colour = msg::Colour::kPurple;
 };
@@ -195,16 +201,25 @@ struct Course2Config {
 /// Docking, both styles.
 struct DockingConfig {
   guidance::DockingApproachParams approach;
-  double decision_distance_m = 4.0;    // 2022: where the boat stops to look, before each slip
-  double face_time_s = 8.0;            // 2022: longest look at one slip before moving on
-  double face_tolerance_deg = 15.0;    // 2022: votes count only when facing within this
-  double marker_window_deg = 15.0;     // 2022: only markers this near the bow are the slip's
-  double approach_thrust_frac = 0.35;  // both: thrust while entering
-  double open_window_deg = 10.0;       // 2026: a direction's range is the minimum over +- this
-  double open_max_range_m = 15.0;      // 2026: ranges are capped here (no return = this far)
-  double survey_distance_m = 7.0;      // 2022: look at every marker from this far before the slips
-  double commit_range_m = 1.5;         // 2026: mouth nearer than this: hold the slip's axis
-  guidance::SlipFinderParams slip;     // 2026: the slip mouth in the lidar profile
+  double decision_distance_m = 6.0;   // 2022: where the boat stops to look, before each slip
+  double face_time_s = 8.0;           // 2022: longest look at one slip before moving on
+  double face_tolerance_deg = 15.0;   // 2022: votes count only when facing within this
+  double marker_window_deg = 15.0;    // 2022: only markers this near the bow are the slip's
+  double approach_thrust_frac = 0.5;  // both: thrust while entering (slower crabs in a current)
+  double open_window_deg = 10.0;      // 2026: a direction's range is the minimum over +- this
+  double open_max_range_m = 15.0;     // 2026: ranges are capped here (no return = this far)
+  double survey_distance_m = 10.0;    // 2022: look at every marker from this far before the slips
+  double slip_depth_m = 2.0;          // 2022: markers hang on the back wall this far inside
+  double turn_thrust_frac = 0.3;      // 2022: thrust while turning to face a slip (the rudder
+                                      // acts on the thruster's stream: no thrust, no turn)
+  double line_up_distance_m = 2.0;    // 2022: approach a decision point from this far behind it
+                                      // on the slip's axis, so the boat arrives facing the slip
+  double marker_fix_gain = 0.3;       // 2022: weight of each frame's camera fix of the axis
+  double max_marker_fix_m = 1.5;      // 2022: largest sideways correction of the slip's axis
+  double slip_match_m = 1.2;          // 2022: a lidar mouth this near where the map puts the
+                                      // chosen slip is that slip (neighbours are farther)
+  double commit_range_m = 1.5;        // 2026: mouth nearer than this: hold the slip's axis
+  guidance::SlipFinderParams slip;    // 2026: the slip mouth in the lidar profile
 };
 
 /// Navigation estimate (inside the core).

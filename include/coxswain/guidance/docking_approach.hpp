@@ -63,7 +63,8 @@ struct SlipFinderParams {
   double min_width_m = 1.2;       // narrower gaps do not take the hull (beam plus margin)
   double max_width_m = 2.6;       // wider gaps are open water between obstacles, not a slip
   double min_depth_m = 1.0;       // the inside reaches at least this much beyond the tips
-  double jump_m = 0.5;            // a tip is where the range jumps out by at least this
+  double max_depth_m = 6.0;       // and ends within this (a back wall): open water behind a gap
+                                  // between two obstacles is no slip
   double max_bearing_deg = 85.0;  // only mouths within this of the forward direction
   double max_range_m = 12.0;      // ignore tips farther than this
   double max_axis_deg = 45.0;     // the slip's axis within this of the forward direction: a gap
@@ -73,12 +74,33 @@ struct SlipFinderParams {
 };
 
 /// The slip mouth nearest the expected width within +-max_bearing_deg of `forward_body_deg`
-/// (the course's forward direction in the body frame): two tips where the range jumps out, the
-/// returns between them all beyond both tips and the deepest at least min_depth_m beyond. Unlike
-/// "the most open direction" this ignores a pond's corner, which has no tips. Empty when none.
+/// (the course's forward direction in the body frame): two tips (returns nearer than their
+/// neighbours: a finger's or quay wall's end) a slip's width apart, nothing between them nearer
+/// than the line joining them, and a closed inside (a return in every bin) reaching at least
+/// min_depth_m and at most max_depth_m beyond it. Unlike "the most
+/// open direction" this ignores a pond's corner, which has no tips. Empty when none.
 [[nodiscard]] std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
                                                    const SlipFinderParams& params,
                                                    double forward_body_deg);
+
+/// As find_slip, but the mouth whose middle is nearest `expected_mouth` (body frame), e.g. the
+/// chosen one of several slips side by side; empty when none lies within `max_offset_m` of it.
+[[nodiscard]] std::optional<SlipOpening> find_slip_near(const perception::RangeProfile& profile,
+                                                        const SlipFinderParams& params,
+                                                        double forward_body_deg,
+                                                        core::BodyPoint expected_mouth,
+                                                        double max_offset_m);
+
+/// As find_slip, but the mouth of the slip whose marker (on its axis, `marker_depth_m` inside the
+/// mouth) is the one the camera sees at `marker_bearing_deg`: every quantity is relative to the
+/// bow, so neither a GNSS nor a compass error can pick a neighbour. Empty when no mouth's marker
+/// is within `max_error_deg` of the sighting.
+[[nodiscard]] std::optional<SlipOpening> find_slip_toward(const perception::RangeProfile& profile,
+                                                          const SlipFinderParams& params,
+                                                          double forward_body_deg,
+                                                          double marker_bearing_deg,
+                                                          double marker_depth_m,
+                                                          double max_error_deg);
 
 /// Ray pursuit in the body frame: heading change (body bearing, + starboard) toward a point
 /// `lookahead_m` along the slip's axis beyond the boat's projection on it, so the boat lines up

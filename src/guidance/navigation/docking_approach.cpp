@@ -2,6 +2,7 @@
 #include "coxswain/guidance/docking_approach.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "coxswain/core/angles.hpp"
@@ -72,8 +73,9 @@ std::optional<std::string> SlipFinderParams::validate() const {
   if (!(min_width_m > 0.0 && max_width_m > min_width_m)) {
     return "docking: slip widths need 0 < min_width_m < max_width_m";
   }
-  if (!(min_depth_m > 0.0)) return "docking: slip min_depth_m must be > 0";
-  if (!(jump_m > 0.0)) return "docking: slip jump_m must be > 0";
+  if (!(min_depth_m > 0.0 && max_depth_m > min_depth_m)) {
+    return "docking: slip depths need 0 < min_depth_m < max_depth_m";
+  }
   if (!(max_bearing_deg > 0.0 && max_bearing_deg <= 180.0)) {
     return "docking: slip max_bearing_deg must be in (0, 180]";
   }
@@ -84,11 +86,20 @@ std::optional<std::string> SlipFinderParams::validate() const {
   return std::nullopt;
 }
 
-std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
-                                     const SlipFinderParams& params, double forward_body_deg) {
+namespace {
+
+/// Every slip mouth in the sector, scored by `score_of` (lower is better; the best is returned).
+/// A mouth is two tips -- returns nearer than every return within a few bins either side, as the
+/// end of a finger or of a quay wall is, whether the wall is seen edge-on or along its face --
+/// the right distance apart, with nothing between them nearer than the line joining them and the
+/// inside reaching at least min_depth_m beyond it.
+template <typename Score>
+std::optional<SlipOpening> best_slip(const perception::RangeProfile& profile,
+                                     const SlipFinderParams& params, double forward_body_deg,
+                                     Score score_of) {
   const std::size_t bins = std::min<std::size_t>(profile.bin_count, profile.closest_range_m.size());
   const double w = static_cast<double>(profile.bin_width_deg);
-  if (bins < 3 || !(w > 0.0)) return std::nullopt;
+  if (bins < 8 || !(w > 0.0)) return std::nullopt;
   const auto bearing = [w](std::size_t i) { return -180.0 + (static_cast<double>(i) + 0.5) * w; };
   const auto range = [&profile](std::size_t i) {
     const float r = profile.closest_range_m[i];
@@ -97,61 +108,114 @@ std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
   const auto in_sector = [&](std::size_t i) {
     return std::abs(core::angle_diff_deg(bearing(i), forward_body_deg)) <= params.max_bearing_deg;
   };
-  // The widest slip seen from its mouth spans at most this many bins.
-  const double nominal = 0.5 * (params.min_width_m + params.max_width_m);
-  std::optional<SlipOpening> best;
-  double best_score = 0.0;
-  for (std::size_t i = 0; i < bins; ++i) {
+  // Tips: local minima of range over +-kTipWindow bins (the first of a plateau).
+  constexpr std::size_t kTipWindow = 3;
+  constexpr std::size_t kMaxTips = 96;
+  std::array<std::size_t, kMaxTips> tips{};
+  std::size_t tip_count = 0;
+  for (std::size_t i = 0; i < bins && tip_count < kMaxTips; ++i) {
     const double ri = range(i);
     if (ri < 0.0 || ri > params.max_range_m || !in_sector(i)) continue;
-    const std::size_t i1 = (i + 1) % bins;
-    const double r1 = range(i1);
-    if (r1 >= 0.0 && r1 < ri + params.jump_m) continue;  // no jump out: not a left tip
-    // Walk starboard across the inside to the right tip.
-    double deepest = r1 < 0.0 ? params.max_range_m + ri : r1;
-    bool inside_ok = true;
-    for (std::size_t step = 2; step < bins / 2 && inside_ok; ++step) {
-      const std::size_t j = (i + step) % bins;
-      const std::size_t jp = (i + step - 1) % bins;
+    bool minimum = true;
+    for (std::size_t k = 1; k <= kTipWindow && minimum; ++k) {
+      const double before = range((i + bins - k) % bins);
+      const double after = range((i + k) % bins);
+      minimum = !(before >= 0.0 && before <= ri) && !(after >= 0.0 && after < ri);
+    }
+    if (minimum) tips[tip_count++] = i;
+  }
+  std::optional<SlipOpening> best;
+  double best_score = 0.0;
+  for (std::size_t a = 0; a < tip_count; ++a) {
+    const std::size_t i = tips[a];
+    const double ri = range(i);
+    const double bi = core::deg_to_rad(bearing(i));
+    const double xi = ri * std::cos(bi);
+    const double yi = ri * std::sin(bi);
+    for (std::size_t b = 0; b < tip_count; ++b) {
+      const std::size_t j = tips[b];
+      // j lies to starboard of i, within the angle the widest slip could span.
+      const std::size_t steps = (j + bins - i) % bins;
+      if (steps < 2 || static_cast<double>(steps) * w > 120.0) continue;
       const double rj = range(j);
-      const double rp = range(jp);
-      if (rj >= 0.0 && (rp < 0.0 || rj <= rp - params.jump_m)) {
-        // Range jumps in: j is the right tip when the inside stayed beyond both tips.
-        if (rj > params.max_range_m || !in_sector(j)) break;
-        const double far = std::max(ri, rj);
-        if (deepest < far + params.min_depth_m) break;
-        const double bi = core::deg_to_rad(bearing(i));
-        const double bj = core::deg_to_rad(bearing(j));
-        const double xi = ri * std::cos(bi);
-        const double yi = ri * std::sin(bi);
-        const double xj = rj * std::cos(bj);
-        const double yj = rj * std::sin(bj);
-        const double width = std::hypot(xj - xi, yj - yi);
-        if (width < params.min_width_m || width > params.max_width_m) break;
-        SlipOpening s;
-        s.mouth_x_m = 0.5 * (xi + xj);
-        s.mouth_y_m = 0.5 * (yi + yj);
-        // The chord runs port tip -> starboard tip; turned 90 deg to port it points inside.
-        s.axis_body_deg = core::rad_to_deg(std::atan2(-(xj - xi), yj - yi));
-        if (std::abs(core::angle_diff_deg(s.axis_body_deg, forward_body_deg)) >
-            params.max_axis_deg) {
+      const double bj = core::deg_to_rad(bearing(j));
+      const double xj = rj * std::cos(bj);
+      const double yj = rj * std::sin(bj);
+      const double width = std::hypot(xj - xi, yj - yi);
+      if (width < params.min_width_m || width > params.max_width_m) continue;
+      // The chord runs port tip -> starboard tip; turned 90 deg to port it points inside.
+      const double nx = (yj - yi) / width;
+      const double ny = -(xj - xi) / width;
+      const double axis_deg = core::rad_to_deg(std::atan2(ny, nx));
+      if (std::abs(core::angle_diff_deg(axis_deg, forward_body_deg)) > params.max_axis_deg) {
+        continue;
+      }
+      double deepest = 0.0;
+      bool open = true;
+      for (std::size_t step = 1; step < steps && open; ++step) {
+        const std::size_t k = (i + step) % bins;
+        const double rk = range(k);
+        if (rk < 0.0) {  // nothing within range: open water through the gap, no back wall
+          open = false;
           break;
         }
-        s.width_m = width;
-        s.depth_m = deepest - far;
-        const double score = std::abs(width - nominal);
-        if (!best || score < best_score) {
-          best = s;
-          best_score = score;
-        }
-        break;
+        const double bk = core::deg_to_rad(bearing(k));
+        const double depth = (rk * std::cos(bk) - xi) * nx + (rk * std::sin(bk) - yi) * ny;
+        open = depth > -0.1;  // something in the mouth: not a way in
+        deepest = std::max(deepest, depth);
       }
-      if (rj >= 0.0 && rj <= std::max(ri, 0.0) + 0.05) inside_ok = false;  // inside came nearer
-      deepest = std::max(deepest, rj < 0.0 ? params.max_range_m + ri : rj);
-      const double span_m = ri * core::deg_to_rad(static_cast<double>(step) * w);
-      if (span_m > 2.0 * params.max_width_m) break;
+      if (!open || deepest < params.min_depth_m || deepest > params.max_depth_m) continue;
+      SlipOpening s;
+      s.mouth_x_m = 0.5 * (xi + xj);
+      s.mouth_y_m = 0.5 * (yi + yj);
+      s.axis_body_deg = axis_deg;
+      s.width_m = width;
+      s.depth_m = deepest;
+      const double score = score_of(s);
+      if (!best || score < best_score) {
+        best = s;
+        best_score = score;
+      }
     }
   }
+  return best;
+}
+
+}  // namespace
+
+std::optional<SlipOpening> find_slip(const perception::RangeProfile& profile,
+                                     const SlipFinderParams& params, double forward_body_deg) {
+  const double nominal = 0.5 * (params.min_width_m + params.max_width_m);
+  return best_slip(profile, params, forward_body_deg,
+                   [nominal](const SlipOpening& s) { return std::abs(s.width_m - nominal); });
+}
+
+std::optional<SlipOpening> find_slip_near(const perception::RangeProfile& profile,
+                                          const SlipFinderParams& params, double forward_body_deg,
+                                          core::BodyPoint expected_mouth, double max_offset_m) {
+  auto best = best_slip(profile, params, forward_body_deg, [expected_mouth](const SlipOpening& s) {
+    return std::hypot(s.mouth_x_m - expected_mouth.forward_m,
+                      s.mouth_y_m - expected_mouth.starboard_m);
+  });
+  if (best && std::hypot(best->mouth_x_m - expected_mouth.forward_m,
+                         best->mouth_y_m - expected_mouth.starboard_m) > max_offset_m) {
+    return std::nullopt;
+  }
+  return best;
+}
+
+std::optional<SlipOpening> find_slip_toward(const perception::RangeProfile& profile,
+                                            const SlipFinderParams& params, double forward_body_deg,
+                                            double marker_bearing_deg, double marker_depth_m,
+                                            double max_error_deg) {
+  const auto error_of = [&](const SlipOpening& s) {
+    const double a = core::deg_to_rad(s.axis_body_deg);
+    const double x = s.mouth_x_m + marker_depth_m * std::cos(a);
+    const double y = s.mouth_y_m + marker_depth_m * std::sin(a);
+    return std::abs(core::angle_diff_deg(core::rad_to_deg(std::atan2(y, x)), marker_bearing_deg));
+  };
+  auto best = best_slip(profile, params, forward_body_deg, error_of);
+  if (best && error_of(*best) > max_error_deg) return std::nullopt;
   return best;
 }
 

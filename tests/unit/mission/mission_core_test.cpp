@@ -529,41 +529,55 @@ TEST(MissionKaboat2026, ClosedLoopThroughCourseOneAndTwo) {
 
 // ---- docking 2022 -----------------------------------------------------------------------------
 
-TEST(MissionDocking2022, VotesChooseTheTargetSlipThenRayPursuitAndLidarStop) {
+// Three slips opening west at east = 10 (entrances at north 0, 3, 6), markers 2 m inside.
+config::Configuration three_slips_config(double face_time_s) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   const core::LocalFrame f(c.mission.origin);
   auto& t = c.mission.tasks[0];
   t.time_limit_s = 600.0;
-  t.target_colour = msg::Colour::kRed;  // overridden by the operator below
+  t.target_colour = msg::Colour::kRed;  // overridden by the operator
   t.target_shape = msg::Shape::kTriangle;
-  t.dock_heading_deg = 90.0;  // the slips open to the west: enter heading east
+  t.dock_heading_deg = 90.0;  // enter heading east
   for (double north : {0.0, 3.0, 6.0}) t.slips.push_back(f.to_geo({north, 10.0}));
-  c.mission.docking.face_time_s = 3.0;
+  c.mission.docking.face_time_s = face_time_s;
+  return c;
+}
+
+void operator_target(Rig& rig, msg::Colour colour, msg::Shape shape) {
+  rig.snap->operator_input.value.target_colour = colour;
+  rig.snap->operator_input.value.target_shape = shape;
+  rig.snap->operator_input.stamp_ns = rig.now;
+  rig.snap->operator_input.sequence = 1;
+}
+
+TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipThenRayPursuitAndLidarStop) {
+  const config::Configuration c = three_slips_config(3.0);
   auto rig = std::make_unique<Rig>(c);
-  rig->snap->operator_input.value.target_colour = msg::Colour::kGreen;
-  rig->snap->operator_input.value.target_shape = msg::Shape::kCross;
-  rig->snap->operator_input.stamp_ns = rig->now;
-  rig->snap->operator_input.sequence = 1;
-  // The boat waits at slip 1's decision point (4 m west of it), facing the slips.
-  rig->position = {0.0, 6.0};
+  operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
+  // On the way to the survey point (10 m west of the middle slip), facing the docks.
+  rig->position = {3.0, -8.0};
   rig->heading_deg = 90.0;
   rig->run_for(0.4);
-  EXPECT_EQ(rig->path(), "docking/face_slip1") << rig->log_text();
-  // Slip 1 shows the wrong marker (the config default, red triangle): not the target.
-  for (int i = 0; i < 200 && rig->path() == "docking/face_slip1"; ++i) {
-    if (i % 2 == 0) rig->camera({detection(msg::Colour::kRed, msg::Shape::kTriangle, 0.0F)});
+  ASSERT_EQ(rig->path(), "docking/survey") << rig->log_text();
+  // Every frame shows the three markers where the map puts them (slip 1 to starboard).
+  const double side_deg = core::rad_to_deg(std::atan2(3.0, 20.0));
+  for (int i = 0; i < 200 && rig->path() == "docking/survey"; ++i) {
+    if (i % 5 == 0) {
+      rig->camera(
+          {detection(msg::Colour::kRed, msg::Shape::kTriangle, static_cast<float>(side_deg)),
+           detection(msg::Colour::kGreen, msg::Shape::kCross, 0.0F),
+           detection(msg::Colour::kBlue, msg::Shape::kCircle, static_cast<float>(-side_deg))});
+    }
     rig->tick();
   }
   EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
-  rig->position = {3.0, 6.0};
-  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/face_slip2"; }, 1.0));
-  for (int i = 0; i < 200 && rig->path() == "docking/face_slip2"; ++i) {
-    if (i % 2 == 0) rig->camera({detection(msg::Colour::kGreen, msg::Shape::kCross, 2.0F)});
-    rig->tick();
-  }
-  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  EXPECT_TRUE(rig->logged("survey -> docking/goto_slip2: target marker at slip 2"))
+      << rig->log_text();
   EXPECT_EQ(rig->out.status.docking_slip, 1);
-  EXPECT_TRUE(rig->logged("target marker at slip 2"));
+  // At slip 2's decision point, facing it: in at once.
+  rig->position = {3.0, 10.0 - c.mission.docking.decision_distance_m};
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/enter_slip2"; }, 2.0))
+      << rig->log_text();
   // Ray pursuit: aims east along the ray into slip 2; the thrust ramps up from neutral.
   rig->run_for(0.5);
   EXPECT_NEAR(rig->out.viz.desired_heading_deg, 90.0, 1.0);
@@ -573,6 +587,44 @@ TEST(MissionDocking2022, VotesChooseTheTargetSlipThenRayPursuitAndLidarStop) {
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
   EXPECT_TRUE(rig->logged("docked in slip 2"));
   EXPECT_TRUE(rig->neutral());
+}
+
+TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
+  const config::Configuration c = three_slips_config(3.0);
+  auto rig = std::make_unique<Rig>(c);
+  operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
+  const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
+  // Nothing seen on the way to the survey point: on to the slips, one by one.
+  rig->position = {3.0, 0.0};
+  rig->heading_deg = 90.0;
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/goto_slip1"; }, 2.0))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("survey point reached undecided")) << rig->log_text();
+  rig->position = {0.0, decision_east - c.mission.docking.line_up_distance_m};
+  rig->run_for(0.4);
+  rig->position = {0.0, decision_east};
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/face_slip1"; }, 2.0))
+      << rig->log_text();
+  // Slip 1 shows the wrong marker (red triangle) dead ahead: not the target.
+  for (int i = 0; i < 300 && rig->path() == "docking/face_slip1"; ++i) {
+    if (i % 5 == 0) rig->camera({detection(msg::Colour::kRed, msg::Shape::kTriangle, 0.0F)});
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
+  EXPECT_TRUE(rig->logged("slip 1 is not the target (ratio 0.00)")) << rig->log_text();
+  // Each decision point is reached from behind, on the slip's axis.
+  rig->position = {3.0, decision_east - c.mission.docking.line_up_distance_m};
+  rig->run_for(0.4);
+  rig->position = {3.0, decision_east};
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/face_slip2"; }, 2.0))
+      << rig->log_text();
+  for (int i = 0; i < 300 && rig->path() == "docking/face_slip2"; ++i) {
+    if (i % 5 == 0) rig->camera({detection(msg::Colour::kGreen, msg::Shape::kCross, 2.0F)});
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  EXPECT_TRUE(rig->logged("face_slip2 -> docking/enter_slip2: target marker at slip 2"))
+      << rig->log_text();
 }
 
 TEST(MissionDocking2022, ClosedLoopFindsTheTargetSlipAndStopsInside) {
@@ -655,13 +707,13 @@ TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
   rig->live_gnss = false;
   rig->move = true;
   rig->heading_deg = 8.0;  // slightly off the slip's axis
-  // A slip 2.4 m wide running north, its mouth 5 m ahead, closed by the dock's back wall 12 m
+  // A slip 2.4 m wide running north, its mouth 5 m ahead, closed by the dock's back wall 8 m
   // ahead; a quay wall either side of the mouth.
-  for (double n = 5.0; n <= 12.0; n += 0.3) {
+  for (double n = 5.0; n <= 8.0; n += 0.3) {
     rig->world_buoys.push_back({{n, -1.2}, 0.15});
     rig->world_buoys.push_back({{n, 1.2}, 0.15});
   }
-  for (double e = -1.0; e <= 1.0; e += 0.3) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  for (double e = -1.0; e <= 1.0; e += 0.3) rig->world_buoys.push_back({{8.0, e}, 0.15});
   for (double e = 1.5; e <= 6.0; e += 0.3) {
     rig->world_buoys.push_back({{5.0, e}, 0.15});
     rig->world_buoys.push_back({{5.0, -e}, 0.15});
@@ -670,7 +722,7 @@ TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
   EXPECT_EQ(rig->out.status.tasks_timed_out, 0U);
   EXPECT_TRUE(rig->logged("-> docking/approach_slip: slip mouth")) << rig->log_text();
   EXPECT_TRUE(rig->logged("-> finished: stopped 0.")) << rig->log_text();
-  EXPECT_GT(rig->position.north_m, 10.5);          // at the back wall, not stopped early
+  EXPECT_GT(rig->position.north_m, 6.5);           // at the back wall, not stopped early
   EXPECT_LT(std::abs(rig->position.east_m), 0.8);  // inside the slip
   EXPECT_TRUE(rig->neutral());
 }

@@ -388,3 +388,107 @@ TEST(DockingApproach, FindSlipSeesTwoTipsWithADeeperInsideNotACorner) {
 
 }  // namespace
 }  // namespace coxswain::guidance
+
+namespace coxswain::guidance {
+namespace {
+
+// Closest return per 1-degree bin of straight walls (body frame: x forward, y starboard).
+struct Wall2d {
+  double x0, y0, x1, y1;
+};
+perception::RangeProfile cast(const std::vector<Wall2d>& walls) {
+  perception::RangeProfile p;
+  p.bin_width_deg = 1.0F;
+  p.bin_count = 360;
+  p.closest_range_m.fill(perception::RangeProfile::kNoReturn);
+  for (std::size_t i = 0; i < 360; ++i) {
+    // Two rays per bin, as a 0.5-degree lidar would give.
+    for (const double off : {0.25, 0.75}) {
+      const double b = core::deg_to_rad(-180.0 + static_cast<double>(i) + off);
+      const double dx = std::cos(b);
+      const double dy = std::sin(b);
+      for (const Wall2d& w : walls) {
+        const double ex = w.x1 - w.x0;
+        const double ey = w.y1 - w.y0;
+        const double den = dx * ey - dy * ex;
+        if (std::abs(den) < 1e-12) continue;
+        const double t = (w.x0 * ey - w.y0 * ex) / den;  // along the ray
+        const double u = (w.x0 * dy - w.y0 * dx) / den;  // along the wall
+        if (t <= 0.05 || u < 0.0 || u > 1.0 || t > 12.0) continue;
+        p.closest_range_m[i] = std::min(p.closest_range_m[i], static_cast<float>(t));
+      }
+    }
+  }
+  return p;
+}
+
+// Three docks side by side, 1.6 m slips 2 m deep, 3.1 m apart, their back on a long wall, seen
+// from `ahead_m` in front of the middle slip's mouth and `offset_m` to its starboard.
+std::vector<Wall2d> three_docks(double ahead_m, double offset_m) {
+  std::vector<Wall2d> walls;
+  const double back = ahead_m + 2.0;
+  walls.push_back({back, -12.0, back, 12.0});
+  for (int k = -1; k <= 1; ++k) {
+    const double c = 3.1 * k - offset_m;
+    walls.push_back({ahead_m, c - 0.8, back, c - 0.8});
+    walls.push_back({ahead_m, c + 0.8, back, c + 0.8});
+  }
+  return walls;
+}
+
+TEST(DockingApproach, FindSlipSeesFingersFromInFrontAndPicksTheMarkedOne) {
+  // Fingers seen along their faces (no range jump at a tip) are still found; of the five gaps
+  // (three slips and the two between the docks, all alike to the lidar) the camera's marker
+  // bearing names the slip, the map's expected mouth names it too.
+  const auto p = cast(three_docks(6.0, 0.4));
+  SlipFinderParams params;
+  params.max_axis_deg = 20.0;
+  const auto any = find_slip(p, params, 0.0);
+  ASSERT_TRUE(any.has_value());
+  EXPECT_NEAR(any->width_m, 1.6, 0.25);
+  EXPECT_NEAR(any->axis_body_deg, 0.0, 10.0);
+  // The middle slip's marker, 2 m inside its mouth: at atan2(-0.4, 8).
+  const double marker_deg = core::rad_to_deg(std::atan2(-0.4, 8.0));
+  const auto s = find_slip_toward(p, params, 0.0, marker_deg, 2.0, 6.0);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(s->mouth_x_m, 6.0, 0.3);
+  EXPECT_NEAR(s->mouth_y_m, -0.4, 0.2);
+  EXPECT_NEAR(s->width_m, 1.6, 0.25);
+  // The port slip's marker (3.1 m over) picks the port slip.
+  const double left_deg = core::rad_to_deg(std::atan2(-3.1 - 0.4, 8.0));
+  const auto l = find_slip_toward(p, params, 0.0, left_deg, 2.0, 6.0);
+  ASSERT_TRUE(l.has_value());
+  EXPECT_NEAR(l->mouth_y_m, -3.5, 0.2);
+  // The gap between two docks has a slip's shape to the lidar: only the bearing tells them apart.
+  const double between_deg = core::rad_to_deg(std::atan2(-1.55 - 0.4, 8.0));
+  const auto g = find_slip_toward(p, params, 0.0, between_deg, 2.0, 2.0);
+  ASSERT_TRUE(g.has_value());
+  EXPECT_NEAR(g->mouth_y_m, -1.95, 0.2);
+  EXPECT_FALSE(find_slip_toward(p, params, 0.0, between_deg + 7.0, 2.0, 2.0).has_value());
+  const auto near = find_slip_near(p, params, 0.0, {6.0, -0.2}, 1.0);
+  ASSERT_TRUE(near.has_value());
+  EXPECT_NEAR(near->mouth_y_m, -0.4, 0.2);
+  EXPECT_FALSE(find_slip_near(p, params, 0.0, {6.0, 0.8}, 0.3).has_value());
+}
+
+TEST(DockingApproach, AGapBetweenTwoBuoysWithOpenWaterBehindIsNoSlip) {
+  perception::RangeProfile p;
+  p.bin_width_deg = 1.0F;
+  p.bin_count = 360;
+  p.closest_range_m.fill(perception::RangeProfile::kNoReturn);
+  // Two buoys 1.8 m apart, 5 m ahead, nothing behind them within range.
+  for (int b = -14; b <= -8; ++b) p.closest_range_m[static_cast<std::size_t>(180 + b)] = 5.1F;
+  for (int b = 8; b <= 14; ++b) p.closest_range_m[static_cast<std::size_t>(180 + b)] = 5.1F;
+  p.closest_range_m[180 - 11] = 5.0F;
+  p.closest_range_m[180 + 11] = 5.0F;
+  EXPECT_FALSE(find_slip(p, SlipFinderParams{}, 0.0).has_value());
+  // A wall 3 m behind them closes the gap: now it has the shape of a slip.
+  for (int b = -7; b <= 7; ++b) {
+    p.closest_range_m[static_cast<std::size_t>(180 + b)] =
+        static_cast<float>(8.0 / std::cos(core::deg_to_rad(b + 0.5)));
+  }
+  EXPECT_TRUE(find_slip(p, SlipFinderParams{}, 0.0).has_value());
+}
+
+}  // namespace
+}  // namespace coxswain::guidance
