@@ -87,7 +87,9 @@ struct RecorderOptions {
   // simulator, whose virtual time outruns any polling thread, so no value is ever overwritten).
   bool sampler_thread = true;
   std::size_t sample_queue_slots = 1024;  // decoded messages waiting for the writer
-  std::size_t lidar_queue_slots = 8;      // scans waiting for the writer (53 KiB each)
+  // Scans waiting for the writer (53 KiB each): 3 s at 10 Hz, so a writer held up by a slow
+  // fdatasync loses none (a missing scan makes a tick unreplayable).
+  std::size_t lidar_queue_slots = 32;
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
   std::string config_yaml;          // effective configuration (Metadata "config")
