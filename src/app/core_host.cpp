@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "coxswain/mission/tunable_parameters.hpp"
+
 namespace coxswain::app {
 
 void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boat,
@@ -60,6 +62,15 @@ void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boa
     o.radius_m = static_cast<float>(0.5 * std::hypot(s.end.forward_m - s.begin.forward_m,
                                                      s.end.starboard_m - s.begin.starboard_m));
   }
+}
+
+std::vector<record::NamedValue> named_values(const mission::TunableParameters& params) {
+  std::vector<record::NamedValue> values;
+  values.reserve(mission::tunable_specs().size());
+  for (const mission::TunableSpec& spec : mission::tunable_specs()) {
+    values.push_back({spec.name, spec.get(params)});
+  }
+  return values;
 }
 
 void log_transitions(const mission::TransitionLog& transitions) {

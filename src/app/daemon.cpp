@@ -16,6 +16,7 @@
 #include "coxswain/app/device_probe.hpp"
 #include "coxswain/app/device_sessions.hpp"
 #include "coxswain/app/health_reporter.hpp"
+#include "coxswain/app/logging.hpp"
 #include "coxswain/app/raw_capture_sink.hpp"
 #include "coxswain/app/serial_drivers.hpp"
 #include "coxswain/app/systemd_notify.hpp"
@@ -28,7 +29,6 @@
 #include "coxswain/drivers/ublox/session.hpp"
 #include "coxswain/live/live_server.hpp"
 #include "coxswain/mission/mission_core.hpp"
-#include "coxswain/perception/vision_params.hpp"
 #include "coxswain/record/recorder.hpp"
 
 namespace coxswain::app {
@@ -132,6 +132,9 @@ void block_stop_signals() {
 
 int run_daemon(const config::Configuration& config, const RunOptions& options) {
   block_stop_signals();  // idempotent; the caller should already have done it before its threads
+  // A file-size limit (systemd LimitFSIZE=, ulimit -f) must cost the recording, not the boat:
+  // ignored, SIGXFSZ turns into EFBIG from write(2), which the recorder and the log survive.
+  ::signal(SIGXFSZ, SIG_IGN);
 
   const core::SteadyClock clock;
   const SystemdNotifier notifier;
@@ -152,6 +155,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
                  options.capture_dir.string());
   }
   std::unique_ptr<record::Recorder> recorder;
+  std::shared_ptr<spdlog::sinks::sink> recorder_log;
   if (options.record) {
     record::RecorderOptions recorder_options;
     recorder_options.path = options.run_dir / "run.mcap";
@@ -159,6 +163,9 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
     recorder_options.build_version = options.build_version;
     recorder = std::make_unique<record::Recorder>(recorder_options, store.get(), clock);
     if (recorder->start()) {
+      // The daemon's own log lines (info and above) go to /log through the recorder's queue.
+      recorder_log = recorder->log_sink();
+      if (!attach_log_sink(recorder_log, spdlog::level::info)) recorder_log.reset();
       spdlog::info("flight recording to {}", recorder_options.path.string());
     } else {
       spdlog::error("flight recorder could not start ({}): sailing without a recording",
@@ -234,9 +241,10 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
       *store, clock, raw_sink);
   std::unique_ptr<drivers::camera::CameraDriver> camera;
   if (config.devices.camera.enabled) {
+    // The detector tunables in force are the core's (live-tunable HSV boxes).
     camera = std::make_unique<drivers::camera::CameraDriver>(
-        config.devices.camera, config.boat.mounts.camera, perception::VisionParams::defaults(),
-        store->camera, store->health_of(msg::DeviceId::kCamera), clock);
+        config.devices.camera, config.boat.mounts.camera, core->parameters().vision, store->camera,
+        store->health_of(msg::DeviceId::kCamera), clock);
   }
   // Devices with a driver publish their own health; the probe watches only the others.
   std::array<bool, msg::kDeviceCount> driven = serial_drivers.driven();
@@ -275,11 +283,19 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
         if (live_server && live_server->take_parameters(*live_params)) {
           // Between two steps: the core never sees a half-applied set. Rare (an operator action).
           const std::string error = core->apply_parameters(*live_params);
-          const std::string line = error.empty() ? "live: tunable parameters applied"
-                                                 : "live: parameters refused: " + error;
-          spdlog::info("{}", line);
-          if (recorder) (void)recorder->record_log(tick.now_ns, spdlog::level::info, "live", line);
-          live_server->publish_parameters(core->parameters(), tick.now_ns);
+          *live_params = core->parameters();
+          if (error.empty()) {
+            spdlog::info("live: tunable parameters applied at tick {}", tick.index);
+            // Recorded with the tick it first steps, so replay applies it at the same point.
+            if (recorder &&
+                !recorder->record_parameters(tick.index, tick.now_ns, named_values(*live_params))) {
+              spdlog::warn("live: the applied parameter set could not be recorded");
+            }
+            if (camera) camera->set_vision(live_params->vision);
+          } else {
+            spdlog::warn("live: parameters refused: {}", error);
+          }
+          live_server->publish_parameters(*live_params, tick.now_ns);
         }
         core->step(*snapshot, tick.now_ns, *out);
         store->command.publish(out->command, tick.now_ns);
@@ -342,6 +358,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   if (capture) capture->stop();  // after the transports: they were its producers
   if (recorder) {
     recorder->stop();
+    if (recorder_log) detach_log_sink(recorder_log);
     const record::RecorderStats stats = recorder->stats();
     spdlog::info("flight recording closed{}",
                  stats.failed ? " after a write error: " + stats.error : "");

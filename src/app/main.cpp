@@ -178,6 +178,9 @@ int main(int argc, char** argv) {
   replay->add_option("--max-diffs", replay_command.max_diffs, "Differences to list")
       ->capture_default_str();
   replay->add_flag("--decode", replay_command.decode, "Re-run the device codecs on the raw bytes");
+  replay->add_flag("--ignore-parameter-changes", replay_command.ignore_parameter_sets,
+                   "Leave out the parameter sets applied live (/params): what the run would have "
+                   "done without them");
   auto* report = app.add_subcommand("report", "Write the postmortem report (one HTML file)");
   std::string report_file;
   std::string report_out;

@@ -3,8 +3,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cmath>
-
 namespace coxswain::live {
 namespace {
 
@@ -28,48 +26,6 @@ std::optional<Enum> parse_enum(std::string_view name, int last, NameFn name_of) 
   }
   return std::nullopt;
 }
-
-// Ranges are what the engines accept and what makes physical sense on a 2 m boat; anything wider
-// is a typo on a phone, not a tuning.
-const std::vector<ParameterSpec> kSpecs = {
-    {"heading_pid.kp_per_deg", 0.0, 1.0, false,
-     [](const mission::TunableParameters& p) { return p.heading_pid.kp_per_deg; },
-     [](mission::TunableParameters& p, double v) { p.heading_pid.kp_per_deg = v; }},
-    {"heading_pid.ki_per_deg_s", 0.0, 0.5, false,
-     [](const mission::TunableParameters& p) { return p.heading_pid.ki_per_deg_s; },
-     [](mission::TunableParameters& p, double v) { p.heading_pid.ki_per_deg_s = v; }},
-    {"heading_pid.kd_per_dps", 0.0, 1.0, false,
-     [](const mission::TunableParameters& p) { return p.heading_pid.kd_per_dps; },
-     [](mission::TunableParameters& p, double v) { p.heading_pid.kd_per_dps = v; }},
-    {"heading_pid.output_limit", 0.05, 1.0, false,
-     [](const mission::TunableParameters& p) { return p.heading_pid.output_limit; },
-     [](mission::TunableParameters& p, double v) { p.heading_pid.output_limit = v; }},
-    {"heading_pid.integral_limit", 0.0, 1.0, false,
-     [](const mission::TunableParameters& p) { return p.heading_pid.integral_limit; },
-     [](mission::TunableParameters& p, double v) { p.heading_pid.integral_limit = v; }},
-    {"clustering.group_gap_m", 0.01, 2.0, false,
-     [](const mission::TunableParameters& p) { return p.clustering.group_gap_m; },
-     [](mission::TunableParameters& p, double v) { p.clustering.group_gap_m = v; }},
-    {"clustering.group_gap_per_m", 0.0, 0.5, false,
-     [](const mission::TunableParameters& p) { return p.clustering.group_gap_per_m; },
-     [](mission::TunableParameters& p, double v) { p.clustering.group_gap_per_m = v; }},
-    {"clustering.min_group_points", 1.0, 100.0, true,
-     [](const mission::TunableParameters& p) {
-       return static_cast<double>(p.clustering.min_group_points);
-     },
-     [](mission::TunableParameters& p, double v) {
-       p.clustering.min_group_points = static_cast<std::uint32_t>(v);
-     }},
-    {"clustering.split_distance_m", 0.01, 2.0, false,
-     [](const mission::TunableParameters& p) { return p.clustering.split_distance_m; },
-     [](mission::TunableParameters& p, double v) { p.clustering.split_distance_m = v; }},
-    {"clustering.wall_min_length_m", 0.05, 10.0, false,
-     [](const mission::TunableParameters& p) { return p.clustering.wall_min_length_m; },
-     [](mission::TunableParameters& p, double v) { p.clustering.wall_min_length_m = v; }},
-    {"clustering.max_range_m", 1.0, 40.0, false,
-     [](const mission::TunableParameters& p) { return p.clustering.max_range_m; },
-     [](mission::TunableParameters& p, double v) { p.clustering.max_range_m = v; }},
-};
 
 }  // namespace
 
@@ -194,33 +150,6 @@ std::string status_json(const core::Sample<TickSummary>& tick,
   j["devices"] = std::move(devs);
   j["devices_ok"] = all_ok;
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
-
-const std::vector<ParameterSpec>& parameter_specs() { return kSpecs; }
-
-const ParameterSpec* find_parameter(std::string_view name) {
-  for (const ParameterSpec& spec : kSpecs) {
-    if (spec.name == name) return &spec;
-  }
-  return nullptr;
-}
-
-std::string set_parameter(mission::TunableParameters& params, std::string_view name, double value) {
-  const ParameterSpec* spec = find_parameter(name);
-  if (spec == nullptr) return "unknown parameter '" + std::string(name) + "'";
-  if (!std::isfinite(value) || value < spec->min || value > spec->max) {
-    return std::string(name) + " must be within [" + nlohmann::json(spec->min).dump() + ", " +
-           nlohmann::json(spec->max).dump() + "]";
-  }
-  if (spec->integer && std::floor(value) != value) {
-    return std::string(name) + " must be a whole number";
-  }
-  mission::TunableParameters candidate = params;
-  spec->set(candidate, value);
-  if (auto e = candidate.heading_pid.validate()) return std::string(name) + ": " + *e;
-  if (auto e = candidate.clustering.validate(); !e.empty()) return std::string(name) + ": " + e;
-  params = candidate;
-  return {};
 }
 
 bool token_matches(std::string_view configured, std::string_view presented) {

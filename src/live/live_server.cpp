@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
 #include "status_page.hpp"
 
@@ -258,12 +259,12 @@ struct LiveServer::Impl {
     json params = json::array();
     const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
     if (in_force.valid()) {
-      for (const ParameterSpec& spec : parameter_specs()) {
+      for (const mission::TunableSpec& spec : mission::tunable_specs()) {
         bool wanted = names.empty();
         for (const std::string& n : names) wanted = wanted || n == spec.name;
         if (!wanted) continue;
         const double value = spec.get(in_force.value);
-        params.push_back({{"name", std::string(spec.name)}, {"value", value}});
+        params.push_back({{"name", spec.name}, {"value", value}});
       }
     }
     json j = {{"op", "parameterValues"}, {"parameters", std::move(params)}};
@@ -293,7 +294,7 @@ struct LiveServer::Impl {
         problems.push_back(status_op(2, name + ": a number is required", id));
         continue;
       }
-      const std::string err = set_parameter(candidate, name, p["value"].get<double>());
+      const std::string err = mission::set_tunable(candidate, name, p["value"].get<double>());
       if (!err.empty()) {
         problems.push_back(status_op(2, "rejected: " + err, id));
         spdlog::warn("live: parameter {} rejected: {}", name, err);

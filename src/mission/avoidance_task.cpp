@@ -37,6 +37,11 @@ class AvoidanceTask final : public Task {
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
 
+  void retune_avoidance(const guidance::AvoidanceParams& params) override {
+    // Validated by the core: create() cannot fail here. The new engine starts without a side.
+    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
+  }
+
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
 #include "coxswain/guidance/position_filter.hpp"
+#include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
 #include "tasks.hpp"
 
@@ -583,6 +585,8 @@ struct MissionCore::Impl {
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
   perception::RangeProfile profile;
+  // The camera detectors' tunables: kept for the live view, used by the camera thread.
+  perception::VisionParams vision = perception::VisionParams::defaults();
   std::vector<std::unique_ptr<Task>> tasks;
   std::uint8_t needs_union = 0;
 
@@ -638,18 +642,43 @@ void MissionCore::step(const core::Snapshot& snapshot, core::TimeNs now_ns, Core
 }
 
 std::string MissionCore::apply_parameters(const TunableParameters& params) {
-  if (auto e = params.heading_pid.validate()) return "heading_pid: " + *e;
-  if (auto e = params.clustering.validate(); !e.empty()) return "clustering: " + e;
-  impl_->m.heading_pid = params.heading_pid;
-  impl_->pid = control::HeadingPid(params.heading_pid);
-  impl_->m.clustering = params.clustering;
-  // Rebuilding the clusterer allocates its work buffers once: an operator action, not a tick.
-  impl_->clusterer = perception::LidarClusterer(params.clustering);
+  Impl& im = *impl_;
+  const TunableParameters before = parameters();
+  // The named values that changed, each checked against its range; the rest stay as they are.
+  TunableParameters next = before;
+  for (const TunableSpec& spec : tunable_specs()) {
+    const double value = spec.get(params);
+    const double was = spec.get(before);
+    if (std::memcmp(&value, &was, sizeof value) == 0) continue;
+    if (std::string e = check_tunable(spec, value); !e.empty()) return e;
+    spec.set(next, value);
+  }
+  if (std::string e = validate_tunables(next); !e.empty()) return e;
+  im.m.heading_pid = next.heading_pid;
+  im.pid = control::HeadingPid(next.heading_pid);
+  if (tunables_differ(before, next, TunableGroup::kClustering)) {
+    im.m.clustering = next.clustering;
+    // Rebuilding the clusterer allocates its work buffers once: an operator action, not a tick.
+    im.clusterer = perception::LidarClusterer(next.clustering);
+  }
+  if (tunables_differ(before, next, TunableGroup::kAvoidance)) {
+    im.m.avoidance = next.avoidance;
+    for (const auto& task : im.tasks) task->retune_avoidance(next.avoidance);
+  }
+  if (tunables_differ(before, next, TunableGroup::kSpeed)) {
+    im.m.speed = next.speed;
+    im.schedule = control::SpeedSchedule(next.speed);
+    const double thrust = im.ramp.value();
+    im.ramp = control::RateLimiter({next.speed.rise_per_s, next.speed.fall_per_s});
+    im.ramp.reset(thrust);
+  }
+  im.vision = next.vision;
   return {};
 }
 
 TunableParameters MissionCore::parameters() const {
-  return {impl_->m.heading_pid, impl_->m.clustering};
+  return {impl_->m.heading_pid, impl_->m.clustering, impl_->m.avoidance, impl_->m.speed,
+          impl_->vision};
 }
 
 }  // namespace coxswain::mission

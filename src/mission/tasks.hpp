@@ -74,6 +74,9 @@ class Task {
   virtual ReasonText enter(const TaskContext& ctx) = 0;
   virtual TaskResult step(const TaskContext& ctx, GuidanceRequest& out) = 0;
   virtual void exit() {}
+  /// New avoidance parameters (live retuning, between two steps; validated). Tasks with an
+  /// avoidance engine rebuild it; the others ignore them.
+  virtual void retune_avoidance(const guidance::AvoidanceParams& params) { (void)params; }
 
   /// Set by step() when it returns kDone/kFailed, or when it changes phase.
   [[nodiscard]] const ReasonText& reason() const { return reason_; }

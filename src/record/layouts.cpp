@@ -360,6 +360,41 @@ bool decode_tick(std::span<const std::uint8_t> in, TickRecordData& out) {
   return !r.underrun() && r.remaining() == 0;
 }
 
+std::size_t encode_parameters(std::span<std::uint8_t> out, std::uint64_t tick_index,
+                              core::TimeNs stamp_ns, std::span<const NamedValue> values) {
+  if (values.size() > 0xFFFF) return 0;
+  ByteWriter w(out);
+  w.u8(kLayoutVersion);
+  w.u64(tick_index);
+  w.i64(stamp_ns);
+  w.u16(static_cast<std::uint16_t>(values.size()));
+  for (const NamedValue& v : values) {
+    if (v.name.size() > 0xFF) return 0;
+    w.u8(static_cast<std::uint8_t>(v.name.size()));
+    w.bytes(std::span(reinterpret_cast<const std::uint8_t*>(v.name.data()), v.name.size()));
+    w.f64(v.value);
+  }
+  return w.overflow() ? 0 : w.size();
+}
+
+bool decode_parameters(std::span<const std::uint8_t> in, ParameterSetRecord& out) {
+  ByteReader r(in);
+  if (r.u8() != kLayoutVersion) return false;
+  out.tick_index = r.u64();
+  out.stamp_ns = r.i64();
+  const std::uint16_t n = r.u16();
+  out.values.clear();
+  for (std::uint16_t i = 0; i < n && !r.underrun(); ++i) {
+    const std::uint8_t length = r.u8();
+    const std::span<const std::uint8_t> name = r.bytes(length);
+    const double value = r.f64();
+    if (r.underrun()) return false;
+    out.values.emplace_back(std::string(reinterpret_cast<const char*>(name.data()), name.size()),
+                            value);
+  }
+  return !r.underrun() && r.remaining() == 0;
+}
+
 std::string_view layout_schema_name(Layout layout) {
   switch (layout) {
     case Layout::kRaw:
@@ -380,6 +415,8 @@ std::string_view layout_schema_name(Layout layout) {
       return "coxswain.OperatorInput";
     case Layout::kHealth:
       return "coxswain.DeviceHealth";
+    case Layout::kParameters:
+      return "coxswain.ParameterSet";
   }
   return "coxswain.Unknown";
 }
@@ -443,6 +480,10 @@ std::string_view layout_schema_text(Layout layout) {
              "u64 bytes_received; u64 frames_ok; u64 checksum_errors; u64 framing_errors; "
              "u64 dropped_frames; u32 reopen_count; i64 last_frame_ns; f64 rate_hz; "
              "u16 n + char[n] detail\n";
+    case Layout::kParameters:
+      return "coxswain.ParameterSet v1 (little-endian, packed)\n"
+             "u8 version=1; u64 tick_index (the first tick stepped with the set); i64 stamp_ns; "
+             "u16 n; n x (u8 name_length; char[name_length] name; f64 value)\n";
   }
   return "";
 }

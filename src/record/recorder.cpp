@@ -55,6 +55,8 @@ std::string_view channel_topic(RecordChannel channel) {
       return "/viz/scene";
     case RecordChannel::kLog:
       return "/log";
+    case RecordChannel::kParams:
+      return "/params";
   }
   return "/unknown";
 }
@@ -98,6 +100,12 @@ struct Recorder::LogSlot {
   std::array<char, kMaxText> text{};
 };
 
+struct Recorder::ParamsSlot {
+  core::TimeNs stamp_ns = 0;
+  std::uint32_t length = 0;
+  std::array<std::uint8_t, kMaxParameterBytes> bytes{};
+};
+
 /// A decoded message sampled from the store, already in its channel layout.
 struct SampleSlot {
   RecordChannel channel = RecordChannel::kGnss;
@@ -118,11 +126,13 @@ struct Recorder::Queues {
             SpscRing<RawSlot>(o.raw_queue_slots)},
         tick(o.tick_queue_slots),
         log(o.log_queue_slots),
+        params(o.params_queue_slots),
         samples(o.sample_queue_slots),
         lidar_samples(o.lidar_queue_slots) {}
   std::array<SpscRing<RawSlot>, msg::kDeviceCount> raw;
   SpscRing<TickSlot> tick;
   SpscRing<LogSlot> log;
+  SpscRing<ParamsSlot> params;   // producer: the tick thread
   SpscRing<SampleSlot> samples;  // producer: the sampler thread
   SpscRing<LidarSampleSlot> lidar_samples;
   std::atomic<bool> log_accepting{false};
@@ -295,6 +305,7 @@ bool Recorder::start() {
   channel(RecordChannel::kVizScene, json_schema(foxglove::Schema::kSceneUpdate),
           foxglove::kMessageEncoding);
   channel(RecordChannel::kLog, json_schema(foxglove::Schema::kLog), foxglove::kMessageEncoding);
+  channel(RecordChannel::kParams, binary(Layout::kParameters), kBinaryMessageEncoding);
 
   const core::TimeNs now_ns = clock_.now_ns();
   const auto utc_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -409,6 +420,28 @@ bool Recorder::record_tick(const TickInput& tick) noexcept {
   return true;
 }
 
+bool Recorder::record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns,
+                                 std::span<const NamedValue> values) noexcept {
+  if (!accepting_.load(std::memory_order_acquire)) {
+    count_drop(RecordChannel::kParams);
+    return false;
+  }
+  ParamsSlot* s = queues_->params.try_claim();
+  if (s == nullptr) {
+    count_drop(RecordChannel::kParams);
+    return false;
+  }
+  const std::size_t n = encode_parameters(s->bytes, tick_index, stamp_ns, values);
+  if (n == 0) {
+    count_drop(RecordChannel::kParams);  // the claimed slot is reused by the next call
+    return false;
+  }
+  s->stamp_ns = stamp_ns;
+  s->length = static_cast<std::uint32_t>(n);
+  queues_->params.publish();
+  return true;
+}
+
 bool Recorder::record_log(core::TimeNs stamp_ns, int spdlog_level, std::string_view logger,
                           std::string_view text) noexcept {
   return queues_->push_log(stamp_ns, spdlog_level, logger, text);
@@ -498,6 +531,14 @@ bool Recorder::drain_once() {
                 s->now_ns, s->viz, std::string_view(s->state_path.data(), s->state_path_length)));
     }
     queues_->tick.pop();
+  }
+  for (int i = 0; i < kBatch; ++i) {
+    ParamsSlot* s = queues_->params.front();
+    if (s == nullptr) break;
+    any = true;
+    write(RecordChannel::kParams, s->stamp_ns,
+          std::span<const std::uint8_t>(s->bytes.data(), s->length));
+    queues_->params.pop();
   }
   for (int i = 0; i < kBatch; ++i) {
     LogSlot* s = queues_->log.front();

@@ -42,7 +42,7 @@ int run_replay_command(const ReplayCommand& command, std::ostream& out, std::ost
       command.config_override != nullptr ? *command.config_override : *recorded;
   ReplayReport report;
   try {
-    report = replay(recording, config, {command.max_diffs});
+    report = replay(recording, config, {command.max_diffs, !command.ignore_parameter_sets});
   } catch (const std::invalid_argument& e) {
     err << "replay: invalid configuration: " << e.what() << "\n";
     return kUnreadable;

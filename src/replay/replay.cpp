@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "coxswain/app/core_host.hpp"
+#include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
 
 namespace coxswain::replay {
@@ -97,7 +98,14 @@ Recording load_recording(const fs::path& mcap) {
   std::optional<std::uint16_t> lidar_id;
   std::optional<std::uint16_t> scene_id;
   std::optional<std::uint16_t> pose_id;
+  std::optional<std::uint16_t> params_id;
   rec.file = reader.read([&](const record::McapMessageView& m) {
+    if (!params_id) params_id = reader.channel_id("/params");
+    if (params_id && m.channel_id == *params_id) {
+      record::ParameterSetRecord set;
+      if (record::decode_parameters(m.data, set)) rec.parameter_sets.push_back(std::move(set));
+      return;
+    }
     if (!tick_id) tick_id = reader.channel_id("/tick");
     if (!lidar_id) lidar_id = reader.channel_id("/lidar");
     if (!scene_id) scene_id = reader.channel_id("/viz/scene");
@@ -158,6 +166,17 @@ std::optional<config::Configuration> configuration_from_yaml(const std::string& 
   return c;
 }
 
+std::string apply_parameter_set(mission::MissionCore& core, const record::ParameterSetRecord& set) {
+  mission::TunableParameters p = core.parameters();
+  for (const auto& [name, value] : set.values) {
+    const mission::TunableSpec* spec = mission::find_tunable(name);
+    if (spec == nullptr) return "unknown parameter '" + name + "'";
+    if (std::string e = mission::check_tunable(*spec, value); !e.empty()) return e;
+    spec->set(p, value);
+  }
+  return core.apply_parameters(p);
+}
+
 ReplayReport replay(const Recording& recording, const config::Configuration& config,
                     const ReplayOptions& options, const TickCallback& on_tick) {
   ReplayReport report;
@@ -176,11 +195,23 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
   bool scan_loaded = false;
   std::string recorded_path;
   std::string replayed_path;
+  std::size_t next_set = 0;  // recording.parameter_sets[next_set] is the next to apply
 
   for (const auto& bytes : recording.ticks) {
     if (!record::decode_tick(bytes, *tick)) {
       ++report.ticks_undecodable;
       continue;
+    }
+    // The live parameter sets first in force at this tick, applied between the same two steps.
+    while (options.apply_parameter_sets && next_set < recording.parameter_sets.size() &&
+           recording.parameter_sets[next_set].tick_index <= tick->tick_index) {
+      if (apply_parameter_set(core, recording.parameter_sets[next_set]).empty()) {
+        ++report.parameter_sets_applied;
+        report.parameter_ticks.push_back(tick->tick_index);
+      } else {
+        ++report.parameter_sets_refused;
+      }
+      ++next_set;
     }
     // The scan the core saw: the /lidar message of the tick's sequence (header from the tick).
     const std::uint64_t seq = tick->snapshot.lidar.sequence;
@@ -309,6 +340,16 @@ std::string format_replay_report(const ReplayReport& r, bool summary) {
     };
     timeline("recorded", r.recorded_paths);
     timeline("replayed", r.replayed_paths);
+  }
+  if (r.parameter_sets_applied > 0) {
+    o << r.parameter_sets_applied << " live parameter set"
+      << (r.parameter_sets_applied == 1 ? "" : "s") << " applied at tick";
+    for (const std::uint64_t t : r.parameter_ticks) o << " " << t;
+    o << "\n";
+  }
+  if (r.parameter_sets_refused > 0) {
+    o << "warning: " << r.parameter_sets_refused
+      << " recorded parameter sets were refused by the replayed core\n";
   }
   if (r.lidar_scans_missing > 0) {
     o << "warning: " << r.lidar_scans_missing

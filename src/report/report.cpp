@@ -2,12 +2,16 @@
 #include "coxswain/report/report.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "coxswain/core/angles.hpp"
+#include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/msg/device_health.hpp"
 
 namespace coxswain::report {
@@ -404,6 +408,33 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
       safe += data_text[i];
     }
   }
+  // The operator's live parameter changes: each applied set's values that differ from those in
+  // force before it (the first set against the configuration's).
+  std::string parameter_rows;
+  if (!recording.parameter_sets.empty()) {
+    const mission::MissionCore initial(config);
+    std::map<std::string, double> in_force;
+    for (const mission::TunableSpec& spec : mission::tunable_specs()) {
+      in_force[spec.name] = spec.get(initial.parameters());
+    }
+    char cell[64];
+    const auto number = [&cell](double v) {
+      (void)std::snprintf(cell, sizeof cell, "%.10g", v);
+      return std::string(cell);
+    };
+    for (const record::ParameterSetRecord& set : recording.parameter_sets) {
+      for (const auto& [name, value] : set.values) {
+        const auto it = in_force.find(name);
+        if (it != in_force.end() && std::memcmp(&it->second, &value, sizeof value) == 0) continue;
+        parameter_rows += "<tr><td>" + number(static_cast<double>(set.stamp_ns - t0) / 1e9) +
+                          "</td><td>" + std::to_string(set.tick_index) + "</td><td>" +
+                          html_escape(name) + "</td><td>" +
+                          (it == in_force.end() ? std::string("?") : number(it->second)) +
+                          "</td><td>" + number(value) + "</td></tr>";
+        in_force[name] = value;
+      }
+    }
+  }
   const replay::ReplayReport& r = result.replay;
   std::string html = kHead;
   html += "<h1>coxswain run report: " + html_escape(title) + "</h1>\n<p class=\"note\">mission " +
@@ -422,6 +453,12 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
   html +=
       "<table id=\"transitions\"><tr><th>t (s)</th><th>from</th><th>to</th><th>reason</th>"
       "</tr></table>\n";
+  html +=
+      "<h2>Live parameter changes</h2>\n<table id=\"parameters\"><tr><th>t (s)</th><th>tick</th>"
+      "<th>parameter</th><th>from</th><th>to</th></tr>" +
+      (parameter_rows.empty() ? std::string("<tr><td colspan=\"5\">none</td></tr>")
+                              : parameter_rows) +
+      "</table>\n";
   html += plot("health", "Device rates and health", 900, 200);
   html +=
       "<table id=\"health-table\"><tr><th>device</th><th>states seen</th><th>final</th>"

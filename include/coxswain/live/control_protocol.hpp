@@ -2,8 +2,9 @@
 #pragma once
 // The operator's command language, shared by the control socket (`coxswain ctl`), the status
 // page's buttons and the daemon's --target option: parsing, turning commands into the store's
-// OperatorInput, the `status` answer and the tunable parameter table. Pure functions and plain
-// values; thread-safe as values (OperatorState has one owner: the control thread).
+// OperatorInput and the `status` answer (the tunable parameters' table is in
+// mission/tunable_parameters.hpp). Pure functions and plain values; thread-safe as values
+// (OperatorState has one owner: the control thread).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -61,25 +62,6 @@ struct TickSummary {
 [[nodiscard]] std::string status_json(const core::Sample<TickSummary>& tick,
                                       const msg::OperatorInput& operator_input,
                                       const core::Snapshot& devices, core::TimeNs now_ns);
-
-/// A tunable parameter: its dotted name, range and accessors over mission::TunableParameters.
-struct ParameterSpec {
-  std::string_view name;  // e.g. "heading_pid.kp_per_deg"
-  double min = 0.0;
-  double max = 0.0;
-  bool integer = false;
-  double (*get)(const mission::TunableParameters&) = nullptr;
-  void (*set)(mission::TunableParameters&, double) = nullptr;
-};
-
-/// Every tunable parameter, in a stable order.
-[[nodiscard]] const std::vector<ParameterSpec>& parameter_specs();
-[[nodiscard]] const ParameterSpec* find_parameter(std::string_view name);
-
-/// Sets `name` to `value` in `params` after checking its range (and, for the whole set, the
-/// engines' own validation). Returns an empty string when set, else why not (params unchanged).
-[[nodiscard]] std::string set_parameter(mission::TunableParameters& params, std::string_view name,
-                                        double value);
 
 /// Constant-time comparison of a presented token with the configured one (length leaks only).
 /// An empty configured token never matches.

@@ -16,12 +16,15 @@
 
 #include "coxswain/config/config.hpp"
 #include "coxswain/control/heading_pid.hpp"
+#include "coxswain/control/speed_schedule.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"
+#include "coxswain/guidance/avoidance.hpp"
 #include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
+#include "coxswain/perception/vision_params.hpp"
 
 namespace coxswain::mission {
 
@@ -148,11 +151,18 @@ struct CoreOutput {
   VizFrame viz;
 };
 
-/// The parameters an operator may retune while the boat sails (live view parameter interface).
-/// Trivially copyable so it can cross threads through a core::LatestSlot.
+/// The parameters an operator may retune while the boat sails (live view parameter interface;
+/// the named ones are in mission/tunable_parameters.hpp). Trivially copyable so it can cross
+/// threads through a core::LatestSlot.
 struct TunableParameters {
   control::HeadingPidParams heading_pid;
   perception::LidarClusterParams clustering;
+  guidance::AvoidanceParams avoidance;  // the avoidance tasks' engine
+  control::SpeedScheduleParams speed;   // thrust by distance to go, and its rise/fall limit
+  /// The camera detectors' tunables (the HSV box of each colour is tunable). The camera thread
+  /// runs the detectors, not the core: the core only keeps them so the set in force is whole, and
+  /// the daemon hands them to the camera driver.
+  perception::VisionParams vision = perception::VisionParams::defaults();
 };
 
 /// The mission state machine. Construct once from a validated Configuration (throws
@@ -170,9 +180,13 @@ class MissionCore {
   /// One tick. Overwrites `out` entirely.
   void step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out);
 
-  /// Replaces the tunable parameters between two steps (never during one). Returns an empty
-  /// string when applied, else why the set was rejected (nothing changes then). A new heading
-  /// PID starts without integral or rate history; the clusterer keeps its buffers' capacity.
+  /// Replaces the tunable parameters between two steps (never during one). Only the named
+  /// parameters (tunable_specs()) are taken from `params`; the other fields of its structs keep
+  /// the values in force. Returns an empty string when applied, else why the set was rejected
+  /// (nothing changes then). The heading PID always restarts without integral or rate history;
+  /// the clusterer, the avoidance engine of every avoidance task (which forgets its chosen side)
+  /// and the speed schedule are rebuilt only when one of their parameters changed (the thrust
+  /// ramp keeps its value). Allocates (the clusterer's buffers): an operator action, never a tick.
   [[nodiscard]] std::string apply_parameters(const TunableParameters& params);
   /// The parameters in force.
   [[nodiscard]] TunableParameters parameters() const;

@@ -10,12 +10,16 @@
 //   /tick               version, tick index u64, now_ns i64, command, state path, then the
 //                       Snapshot sample by sample (lidar as header only: the points are in
 //                       /lidar under the same sequence)
+//   /params             version, tick index u64, stamp_ns i64, named values (a parameter set
+//                       applied between two steps)
 // Encoders write into caller buffers and never allocate, so the tick thread can encode.
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/device_session.hpp"
@@ -100,6 +104,25 @@ std::size_t encode_tick(std::span<std::uint8_t> out, std::uint64_t tick_index, c
                         std::string_view state_path);
 bool decode_tick(std::span<const std::uint8_t> in, TickRecordData& out);
 
+/// Upper bound of an encoded /params message.
+inline constexpr std::size_t kMaxParameterBytes = 16384;
+/// One value of a parameter set, by name (e.g. "heading_pid.kp_per_deg").
+struct NamedValue {
+  std::string_view name;  // at most 255 bytes
+  double value = 0.0;
+};
+/// One /params message decoded.
+struct ParameterSetRecord {
+  std::uint64_t tick_index = 0;  // the first tick stepped with the set
+  core::TimeNs stamp_ns = 0;
+  std::vector<std::pair<std::string, double>> values;
+};
+/// Encodes a parameter set into `out`. Bytes written, 0 on overflow (or a name over 255 bytes).
+/// No allocation.
+std::size_t encode_parameters(std::span<std::uint8_t> out, std::uint64_t tick_index,
+                              core::TimeNs stamp_ns, std::span<const NamedValue> values);
+bool decode_parameters(std::span<const std::uint8_t> in, ParameterSetRecord& out);
+
 /// The binary layouts a recording uses; each has a schema name and a text description.
 enum class Layout : std::uint8_t {
   kRaw,
@@ -111,6 +134,7 @@ enum class Layout : std::uint8_t {
   kArduino,
   kOperator,
   kHealth,
+  kParameters,
 };
 [[nodiscard]] std::string_view layout_schema_name(Layout layout);
 /// The layout as text (also in FORMAT.md): the schema data of its MCAP Schema record.

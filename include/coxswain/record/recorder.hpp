@@ -3,12 +3,12 @@
 // The flight recorder: one MCAP file per run (src/record/FORMAT.md lists every channel).
 //
 // Producers never block. Each device thread owns one SPSC queue (fed through RawByteSink::on_raw),
-// the tick thread owns one (record_tick), the log sink owns one; slots are fixed-size and a full
-// queue drops the record and counts it per channel. Decoded messages are not pushed by anyone:
-// a sampler thread polls the LatestStore (lock-free reads, every `sample_period_ns`) and queues
-// each new value once, so disk stalls of the writer never make it miss one; values overwritten
-// before it looked are counted as dropped on that channel (the raw bytes still hold them:
-// `replay --decode` re-creates them).
+// the tick thread owns two (record_tick, record_parameters), the log sink owns one; slots are
+// fixed-size and a full queue drops the record and counts it per channel. Decoded messages are not
+// pushed by anyone: a sampler thread polls the LatestStore (lock-free reads, every
+// `sample_period_ns`) and queues each new value once, so disk stalls of the writer never make it
+// miss one; values overwritten before it looked are counted as dropped on that channel (the raw
+// bytes still hold them: `replay --decode` re-creates them).
 //
 // The writer thread drains the queues into McapWriter, closes a chunk (compress, write,
 // fdatasync) at least every `chunk_period_ns`, logs drops at most once per `drop_log_period_ns`,
@@ -16,8 +16,8 @@
 // sails on. After SIGKILL or power loss the file holds every chunk closed before, i.e. all but
 // about the last chunk period.
 // Thread-safety: on_raw from the one thread driving each device (a device's reads and writes must
-// not be teed concurrently from two threads); record_tick from one thread; stats() from any
-// thread; start/stop from the owner.
+// not be teed concurrently from two threads); record_tick and record_parameters from one thread;
+// stats() from any thread; start/stop from the owner.
 #include <array>
 #include <atomic>
 #include <condition_variable>
@@ -35,6 +35,7 @@
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/device_session.hpp"
+#include "coxswain/record/layouts.hpp"
 #include "coxswain/record/tick_record.hpp"
 
 namespace spdlog::sinks {
@@ -63,8 +64,9 @@ enum class RecordChannel : std::uint8_t {
   kVizPose,   // /tf          foxglove.FrameTransform (map -> boat)
   kVizScene,  // /viz/scene   foxglove.SceneUpdate
   kLog,       // /log         foxglove.Log
+  kParams,    // /params      coxswain.ParameterSet (applied live parameter sets)
 };
-inline constexpr std::size_t kRecordChannelCount = 18;
+inline constexpr std::size_t kRecordChannelCount = 19;
 
 [[nodiscard]] std::string_view channel_topic(RecordChannel channel);
 [[nodiscard]] RecordChannel raw_channel(msg::DeviceId device);
@@ -74,6 +76,7 @@ struct RecorderOptions {
   std::size_t raw_queue_slots = 1024;  // per device; each slot carries up to kRawSlotBytes
   std::size_t tick_queue_slots = 256;
   std::size_t log_queue_slots = 512;
+  std::size_t params_queue_slots = 8;              // applied parameter sets (16 KiB each)
   core::TimeNs chunk_period_ns = core::kNsPerSec;  // a crash loses at most about this much
   std::size_t chunk_size_bytes = 4U << 20U;
   int zstd_level = 3;
@@ -84,7 +87,9 @@ struct RecorderOptions {
   // simulator, whose virtual time outruns any polling thread, so no value is ever overwritten).
   bool sampler_thread = true;
   std::size_t sample_queue_slots = 1024;  // decoded messages waiting for the writer
-  std::size_t lidar_queue_slots = 8;      // scans waiting for the writer (53 KiB each)
+  // Scans waiting for the writer (53 KiB each): 3 s at 10 Hz, so a writer held up by a slow
+  // fdatasync loses none (a missing scan makes a tick unreplayable).
+  std::size_t lidar_queue_slots = 32;
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
   std::string config_yaml;          // effective configuration (Metadata "config")
@@ -137,6 +142,12 @@ class Recorder final : public drivers::RawByteSink {
               std::span<const std::uint8_t> bytes) noexcept override;
   /// Copies one tick into the tick queue (bounded work, no allocation). False when dropped.
   bool record_tick(const TickInput& tick) noexcept;
+  /// Queues a parameter set applied between two steps for /params: `tick_index` is the first
+  /// tick stepped with it (replay applies it before stepping that tick). Same thread as
+  /// record_tick. Bounded work, no allocation. False when dropped (queue full, or the set does
+  /// not fit kMaxParameterBytes).
+  bool record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns,
+                         std::span<const NamedValue> values) noexcept;
   /// Queues a log line for /log. One producer at a time (log_sink() serializes its callers).
   bool record_log(core::TimeNs stamp_ns, int spdlog_level, std::string_view logger,
                   std::string_view text) noexcept;
@@ -156,6 +167,7 @@ class Recorder final : public drivers::RawByteSink {
   struct RawSlot;
   struct TickSlot;
   struct LogSlot;
+  struct ParamsSlot;
   struct Queues;
   struct WriterState;
   struct SamplerState;

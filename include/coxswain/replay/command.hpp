@@ -16,7 +16,8 @@ struct ReplayCommand {
   /// null = the recorded effective configuration. Then the report summarises the divergence.
   const config::Configuration* config_override = nullptr;
   std::size_t max_diffs = 20;
-  bool decode = false;  // re-run the device codecs on the raw bytes instead
+  bool decode = false;                 // re-run the device codecs on the raw bytes instead
+  bool ignore_parameter_sets = false;  // leave out the live parameter changes (/params)
 };
 
 int run_replay_command(const ReplayCommand& command, std::ostream& out, std::ostream& err);

@@ -7,7 +7,9 @@
 // built from the recorded effective configuration (or a changed one), and reports every field
 // that differs bit for bit, with the tick index and time. The visualization the tick recorded
 // (/viz/scene, /tf: pose, target, danger sector, obstacles) is rebuilt the way the daemon builds
-// it (app::fill_tick_viz, record::foxglove) and compared byte for byte. Pure apart from reading the
+// it (app::fill_tick_viz, record::foxglove) and compared byte for byte. Parameter sets the
+// operator applied live (/params) are applied again before the tick they were first in force
+// at, so a recording with a live change replays bit for bit too. Pure apart from reading the
 // file. Thread-safety: none; one owner.
 #include <cstdint>
 #include <filesystem>
@@ -36,6 +38,8 @@ struct Recording {
   /// FNV-1a hashes of the recorded visualization (/viz/scene, /tf) by log time (= tick time).
   std::map<std::uint64_t, std::uint64_t> viz_scene;
   std::map<std::uint64_t, std::uint64_t> viz_pose;
+  /// Live parameter sets (/params) in file order.
+  std::vector<record::ParameterSetRecord> parameter_sets;
 };
 [[nodiscard]] Recording load_recording(const std::filesystem::path& mcap);
 
@@ -62,7 +66,15 @@ struct PathChange {
 
 struct ReplayOptions {
   std::size_t max_diffs = 20;  // differences kept in the report (all are counted)
+  /// Apply the recorded live parameter sets (/params); false = what the run would have done
+  /// without the operator's changes.
+  bool apply_parameter_sets = true;
 };
+
+/// Applies a recorded parameter set (named values over the parameters in force) to `core`.
+/// Empty when applied, else why not (an unknown name, a value the core refuses).
+[[nodiscard]] std::string apply_parameter_set(mission::MissionCore& core,
+                                              const record::ParameterSetRecord& set);
 
 struct ReplayReport {
   bool ok = false;  // the recording could be replayed (a readable file with ticks and a config)
@@ -73,7 +85,10 @@ struct ReplayReport {
   std::uint64_t lidar_scans_missing = 0;  // ticks whose scan is not in /lidar (dropped)
   std::uint64_t ticks_undecodable = 0;    // /tick messages of an unknown layout
   std::uint64_t viz_compared = 0;         // ticks whose recorded /viz/scene was compared
-  std::vector<Difference> differences;    // the first max_diffs
+  std::uint64_t parameter_sets_applied = 0;
+  std::uint64_t parameter_sets_refused = 0;    // recorded sets the replayed core refused
+  std::vector<std::uint64_t> parameter_ticks;  // the tick each applied set was first in force at
+  std::vector<Difference> differences;         // the first max_diffs
   std::optional<std::uint64_t> first_divergence_tick;
   core::TimeNs first_divergence_ns = 0;
   std::vector<PathChange> recorded_paths;  // state path timeline as recorded

@@ -60,6 +60,7 @@ CameraDriver::CameraDriver(const config::CameraDeviceConfig& config,
                            core::LatestSlot<msg::DeviceHealth>& health_out,
                            const core::Clock& clock, LatestFrame* frame_out)
     : config_(config),
+      mount_(mount),
       spec_(classify_source(config.source)),
       pipeline_(vision, config.hfov_deg, mount),
       detections_out_(detections_out),
@@ -121,7 +122,17 @@ void CameraDriver::set_state(msg::DeviceState state, const std::string& detail) 
   publish_health();
 }
 
+void CameraDriver::set_vision(const perception::VisionParams& vision) {
+  vision_in_.publish(vision, clock_.now_ns());
+}
+
 void CameraDriver::on_frame(const ReadResult& r) {
+  if (vision_in_.sequence() != vision_seen_) {
+    const core::Sample<perception::VisionParams> v = vision_in_.read();
+    vision_seen_ = v.sequence;
+    // Rebuilt on the camera thread between two frames (its buffers reallocate on this frame).
+    pipeline_ = perception::CameraPipeline(v.value, config_.hfov_deg, mount_);
+  }
   (void)pipeline_.process(frame_, r.stamp_ns, detections_);
   // The frame first: whoever sees detections N can also fetch frame N (or a newer one).
   if (frame_out_ != nullptr) frame_out_->publish(frame_, r.stamp_ns);

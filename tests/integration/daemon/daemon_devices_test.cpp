@@ -183,6 +183,12 @@ TEST(DaemonDevices, EveryDeviceRunsAndTheBoatSailsTowardTheFirstWaypoint) {
                            msg::DeviceId::kArduino}) {
     pty::EmulatorHost* host = run.mode().host(id);
     ASSERT_NE(host, nullptr);
+    // "running" comes from the device's own frames: the daemon's first write (the Arduino's
+    // first command) may follow a moment later on a loaded machine.
+    const auto deadline = std::chrono::steady_clock::now() + seconds(5);
+    while (host->counters().bytes_from_host == 0 && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(milliseconds(20));
+    }
     EXPECT_GT(host->counters().bytes_from_host, 0U) << msg::device_name(id) << ": the daemon "
                                                     << "never wrote to its port";
     EXPECT_GT(host->counters().bytes_to_host, 0U);

@@ -2,7 +2,9 @@
 // End-to-end check of the daemon's control interface and live view with the reference client
 // (@foxglove/ws-protocol over `ws`) and Node's fetch: starts `coxswain run` with every device
 // absent, then drives the status page, the token-protected buttons, `coxswain ctl`, the Foxglove
-// channels (subscribe, receive, unsubscribe, throttled rate) and the parameter interface.
+// channels (subscribe, receive, unsubscribe, throttled rate) and the parameter interface (heading
+// PID, avoidance, speed schedule, vision HSV boxes), then replays the run's recording with the
+// live changes in it.
 // Usage: node live_test.mjs COXSWAIN_EXE SOURCE_DIR WORK_DIR
 import { spawn, spawnSync } from "node:child_process";
 import fs from "node:fs";
@@ -44,7 +46,7 @@ devices = devices
 fs.writeFileSync(path.join(work, "devices.yaml"), devices);
 const logDir = path.join(work, "runs");
 let daemon = spawn(exe, ["--devices", path.join(work, "devices.yaml"), "--log-dir", logDir,
-  "run", "--run-for-s", "60", "--no-record", "--target", "red", "triangle"],
+  "run", "--run-for-s", "60", "--target", "red", "triangle"],
   { stdio: ["ignore", "inherit", "inherit"] });
 daemon.on("exit", (code) => console.log(`daemon exited with ${code}`));
 
@@ -186,6 +188,54 @@ lastParams = null;
 client.getParameters(["heading_pid.kp_per_deg"], "after");
 await until("answer", () => lastParams && lastParams.id === "after");
 check(lastParams.parameters[0].value === wanted, "the rejected value was not applied");
+
+// Avoidance, speed schedule and the vision HSV boxes, like the team's trackbars.
+const value = (params, name) => (params.find((p) => p.name === name) || {}).value;
+lastParams = null;
+client.getParameters([], "all2");
+await until("parameterValues", () => lastParams && lastParams.id === "all2");
+const all = lastParams.parameters;
+for (const name of ["avoidance.clearance_m", "avoidance.strategy", "avoidance.detection_range_m",
+  "speed.max_thrust_frac", "speed.rise_per_s", "vision.red.h_min", "vision.red.s_min",
+  "vision.black.v_max", "vision.purple.h_max"]) {
+  check(typeof value(all, name) === "number", `${name} exposed (${value(all, name)})`);
+}
+const clearance = value(all, "avoidance.clearance_m") === 0.5 ? 0.55 : 0.5;
+const redSat = value(all, "vision.red.s_min") === 120 ? 121 : 120;
+const maxThrust = value(all, "speed.max_thrust_frac") === 0.8 ? 0.85 : 0.8;
+client.setParameters([{ name: "avoidance.clearance_m", value: clearance },
+  { name: "vision.red.s_min", value: redSat },
+  { name: "speed.max_thrust_frac", value: maxThrust }], "set2");
+await until("the avoidance, vision and speed values in force", async () => {
+  lastParams = null;
+  client.getParameters(["avoidance.clearance_m", "vision.red.s_min", "speed.max_thrust_frac"],
+    "poll2");
+  await until("poll answer", () => lastParams && lastParams.id === "poll2");
+  return value(lastParams.parameters, "avoidance.clearance_m") === clearance &&
+    value(lastParams.parameters, "vision.red.s_min") === redSat &&
+    value(lastParams.parameters, "speed.max_thrust_frac") === maxThrust;
+});
+check(true, `avoidance.clearance_m ${clearance}, vision.red.s_min ${redSat}, ` +
+  `speed.max_thrust_frac ${maxThrust} applied by the tick`);
+// Validated as a set: a minimum range above the detection range, a saturation floor above its
+// ceiling, a fractional hue are refused and change nothing.
+const detection = value(all, "avoidance.detection_range_m");
+statuses.length = 0;
+client.setParameters([{ name: "avoidance.min_detection_range_m", value: detection + 1.0 }], "bad2");
+await until("an error status for the avoidance range", () =>
+  statuses.some((m) => m.level === 2 && /min_detection_range_m/.test(m.message)));
+client.setParameters([{ name: "vision.red.s_min", value: 256 }], "bad3");
+await until("an error status for the saturation", () =>
+  statuses.some((m) => m.level === 2 && /vision.red.s_min/.test(m.message)));
+client.setParameters([{ name: "vision.red.h_min", value: 170.5 }], "bad4");
+await until("an error status for a fractional hue", () =>
+  statuses.some((m) => m.level === 2 && /whole number/.test(m.message)));
+lastParams = null;
+client.getParameters(["avoidance.min_detection_range_m", "vision.red.s_min"], "after2");
+await until("answer", () => lastParams && lastParams.id === "after2");
+check(value(lastParams.parameters, "vision.red.s_min") === redSat &&
+  value(lastParams.parameters, "avoidance.min_detection_range_m") ===
+    value(all, "avoidance.min_detection_range_m"), "the refused values were not applied");
 client.close();
 
 // ---- shutdown ----
@@ -196,4 +246,13 @@ check(!fs.existsSync(sock), "the control socket is removed at exit");
 const log = fs.readFileSync(path.join(runDir, "coxswain.log"), "utf8");
 check(/live: tunable parameters applied/.test(log), "the parameter change is in the log");
 check(/control: hold \(from status page\)/.test(log), "operator commands are logged");
+
+// The recording holds both applied sets (/params) and replays bit for bit with them.
+const replayed = spawnSync(exe, ["replay", path.join(runDir, "run.mcap")], { encoding: "utf8" });
+if (replayed.status !== 0 || !/identical/.test(replayed.stdout)) {
+  fail("coxswain replay of the run:\n" + replayed.stdout + replayed.stderr);
+}
+check(true, "coxswain replay of the run is identical");
+check(/2 live parameter sets applied at tick \d+ \d+/.test(replayed.stdout),
+  "replay applied the two recorded parameter sets");
 console.log("PASS");

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # CTest driver: installs the pinned npm test clients (package-lock.json) under the build tree,
-# writes a recording with every channel and opens it with @mcap/core (read_mcap.mjs).
+# writes a recording with every channel and opens it with @mcap/core (read_mcap.mjs); then does the
+# same with a lockstep simulator run's recording (`coxswain-sim run --record`, realistic sensors),
+# its message counts checked against the counters the run wrote in its result.json.
 # Exit 77 (reported as skipped) when node/npm are missing or the npm registry is unreachable.
 set -euo pipefail
 writer=$1
 src=$2
 work=$3
+sim=$4
+config=$5
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   echo "SKIP: node and npm are needed to open the recording with @mcap/core (apt-get install nodejs npm)"
   exit 77
@@ -25,3 +29,29 @@ if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
 fi
 "$writer" "$work/sample.mcap" "$work/expected.json"
 node "$work/node/read_mcap.mjs" "$work/sample.mcap" "$work/expected.json"
+
+# A simulator run (20 s of the 2022 hopping course; it does not finish, so exit 1 is expected).
+rm -rf "$work/sim"
+mkdir -p "$work/sim"
+status=0
+"$sim" run --course "$config/courses/kaboat2022_hopping.yaml" \
+  --mission "$config/missions/hopping.yaml" --boat "$config/boat.yaml" \
+  --devices "$config/devices.yaml" --seed 1 --max-time 20 \
+  --record "$work/sim/run.mcap" --out "$work/sim" || status=$?
+if [ "$status" -gt 1 ] || [ ! -s "$work/sim/result.json" ]; then
+  echo "FAIL: coxswain-sim run exited $status without a result.json"
+  exit 1
+fi
+node -e '
+const fs = require("fs");
+const r = JSON.parse(fs.readFileSync(process.argv[1], "utf8"));
+if (!r.recording) { console.error("FAIL: result.json has no recording counters"); process.exit(1); }
+if (r.recording.failed) { console.error("FAIL: " + r.recording.error); process.exit(1); }
+for (const [topic, n] of Object.entries(r.recording.dropped)) {
+  if (n !== 0) { console.error(`FAIL: the simulator dropped ${n} messages on ${topic}`); process.exit(1); }
+}
+fs.writeFileSync(process.argv[2], JSON.stringify({ written: r.recording.written,
+  must_have: ["/tick", "/lidar", "/imu", "/gnss", "/operator", "/viz/scene", "/tf", "/viz/scan",
+              "/viz/fix"] }));
+' "$work/sim/result.json" "$work/sim/expected.json"
+node "$work/node/read_mcap.mjs" "$work/sim/run.mcap" "$work/sim/expected.json"

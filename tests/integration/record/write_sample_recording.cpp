@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Writes a recording with every channel the way a run does: device threads tee their protocol
 // bytes and publish decoded messages into a LatestStore, a tick thread records Snapshots,
-// commands, state paths and viz data at 50 Hz, log lines go through the recorder's spdlog sink.
+// commands, state paths and viz data at 50 Hz (and one live parameter set), log lines go through
+// the recorder's spdlog sink.
 // Then writes expected.json: the per-channel counts the recorder says it wrote, for
 // read_mcap.mjs to compare with what @mcap/core reads. Exit 1 when the run's own counters and the
 // recorder disagree (recorded + dropped must equal what was produced).
@@ -138,6 +139,11 @@ int main(int argc, char** argv) {
       in.state_path = i < 50 ? "WAITING" : "ACTIVE:HOPPING:TRACKING";
       in.viz = &viz;
       (void)rec.record_tick(in);
+      if (i == 75) {  // an operator's live retuning, first in force at the next tick
+        const record::NamedValue values[] = {{"heading_pid.kp_per_deg", 0.03},
+                                             {"avoidance.clearance_m", 0.4}};
+        (void)rec.record_parameters(76, in.now_ns, values);
+      }
       if (i % 25 == 0) logger->warn("tick {} state {}", i, in.state_path);
       std::this_thread::sleep_for(20ms);
     }
@@ -166,7 +172,7 @@ int main(int argc, char** argv) {
   expected["must_have"] = {"/raw/lidar", "/raw/imu", "/raw/gnss", "/raw/arduino", "/tick",
                            "/gnss",      "/imu",     "/lidar",    "/camera",      "/arduino",
                            "/operator",  "/health",  "/viz/fix",  "/viz/scan",    "/tf",
-                           "/viz/scene", "/log"};
+                           "/viz/scene", "/log",     "/params"};
   std::ofstream(argv[2]) << expected.dump(2) << "\n";
 
   // The run's own counters: every value published is recorded or counted as dropped.
@@ -187,6 +193,7 @@ int main(int argc, char** argv) {
   check(record::RecordChannel::kArduino, store->arduino.sequence());
   check(record::RecordChannel::kCamera, store->camera.sequence());
   check(record::RecordChannel::kTick, kTicks);
+  check(record::RecordChannel::kParams, 1);
   std::uint64_t health = 0;
   for (const auto& h : store->health) health += h.sequence();
   check(record::RecordChannel::kHealth, health);

@@ -117,6 +117,44 @@ TEST_F(ReplaySim, ChangedParameterReportsTheDivergence) {
   EXPECT_EQ(same.status, 0) << same.output;
 }
 
+// `coxswain-sim run --record` (realistic GNSS with wandering bias, IMU, lidar and the rendered
+// camera through the daemon's camera pipeline) replayed by `coxswain replay`: every command,
+// state path and the visualization (/tf, /viz/scene: full doubles, so they show differences the
+// integer pulse widths round away) identical. Once the recorded configuration lost the origin's
+// height and printed doubles to 6 digits: the replayed frame moved, the pulses still matched,
+// the poses did not.
+TEST(ReplaySimProgram, RealisticSensorRunsReplayIdentically) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("coxswain-replay-realistic-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path config = testing::source_dir() / "config";
+  struct Case {
+    const char* course;
+    const char* mission;
+    const char* extra;
+  };
+  for (const Case& c : {Case{"kaboat2026", "kaboat2026", "--seed 1 --max-time 60"},
+                        Case{"kaboat2022_hopping", "hopping", "--seed 2 --disturbances"},
+                        Case{"kaboat2022_obstacle_final", "obstacle_course", "--seed 3"}}) {
+    const fs::path mcap = dir / (std::string(c.course) + ".mcap");
+    // From the source tree, as the README runs it (the boat and devices files by default).
+    const Ran sim =
+        run("cd " + quote(testing::source_dir()) + " && " + std::string(COXSWAIN_SIM_BINARY) +
+            " run --course " + quote(config / "courses" / (std::string(c.course) + ".yaml")) +
+            " --mission " + quote(config / "missions" / (std::string(c.mission) + ".yaml")) + " " +
+            c.extra + " --record " + quote(mcap));
+    ASSERT_LE(sim.status, 1) << sim.output;  // 1: the run did not pass, which is fine here
+    const Ran r = run(std::string(COXSWAIN_BINARY) + " replay " + quote(mcap));
+    EXPECT_EQ(r.status, 0) << c.course << "\n" << r.output;
+    EXPECT_NE(r.output.find("identical"), std::string::npos) << c.course << "\n" << r.output;
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << c.course << "\n" << r.output;
+  }
+  if (std::getenv("COXSWAIN_KEEP_TEST_OUTPUT") == nullptr) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+}
+
 TEST_F(ReplaySim, UnreadableRecordingExitsTwo) {
   const fs::path junk = dir_ / "junk.mcap";
   std::ofstream(junk) << "not an mcap file";

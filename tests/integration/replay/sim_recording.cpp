@@ -57,7 +57,7 @@ config::Configuration shipped_config(const std::string& mission) {
 
 SimRecordingResult record_sim_run(const std::filesystem::path& mcap,
                                   const config::Configuration& config, const std::string& course,
-                                  double seconds) {
+                                  double seconds, const std::optional<ParameterChange>& change) {
   SimRecordingResult result;
   config::ConfigErrors errors;
   const world::Course c = world::load_course_file(
@@ -79,12 +79,22 @@ SimRecordingResult record_sim_run(const std::filesystem::path& mcap,
     return result;
   }
   pilot.set_recorder(&recorder);
-  run.set_step_observer([&recorder] { recorder.sample(); });
+  bool changed = false;
+  run.set_step_observer([&] {
+    recorder.sample();
+    if (change && !changed && run.clock().now_ns() >= core::sec_to_ns(change->at_s)) {
+      mission::TunableParameters p = pilot.parameters();
+      change->edit(p);
+      pilot.request_parameters(p);  // applied before the next step
+      changed = true;
+    }
+  });
   (void)run.run();
   const record::RecorderStats stats = recorder.stop();
   result.ticks = stats[record::RecordChannel::kTick].written;
   // Every channel: the simulator samples the store after each step, so not even /imu may drop.
   result.dropped = stats.total_dropped();
+  result.parameters_error = pilot.parameters_error();
   result.ok = !stats.failed;
   if (stats.failed) result.error = stats.error;
   return result;

@@ -1,29 +1,63 @@
 // SPDX-License-Identifier: Apache-2.0
 // The coxswain executable end to end: version, check-config exit codes and messages, print-config,
-// and a run with no devices present that keeps ticking and stops cleanly on SIGTERM.
+// and a run with no devices present that keeps ticking and stops cleanly on SIGTERM, records its
+// own log lines, leaves a replayable recording when killed and sails on when the file-size limit
+// stops the recording.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "coxswain/record/layouts.hpp"
+#include "coxswain/record/mcap_reader.hpp"
 #include "support/testdata.hpp"
-
-extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
+
+// What a recording holds: messages per topic, the /log lines (level and text) and the report.
+struct RecordingSummary {
+  coxswain::record::McapReadReport report;
+  std::map<std::string, std::uint64_t> counts;
+  std::vector<std::pair<int, std::string>> log;  // foxglove.Log level, message
+};
+
+RecordingSummary read_recording(const fs::path& mcap) {
+  RecordingSummary s;
+  coxswain::record::McapReader reader;
+  if (!reader.open(mcap)) return s;
+  s.report = reader.read([&](const coxswain::record::McapMessageView& m) {
+    const std::string topic = reader.channels().at(m.channel_id).topic;
+    ++s.counts[topic];
+    if (topic == "/log") {
+      const auto j = nlohmann::json::parse(m.data.begin(), m.data.end());
+      s.log.emplace_back(j["level"].get<int>(), j["message"].get<std::string>());
+    }
+  });
+  return s;
+}
+
+// The one run directory under `runs`.
+fs::path only_run(const fs::path& runs) {
+  fs::path run_dir;
+  for (const auto& e : fs::directory_iterator(runs)) run_dir = e.path();
+  return run_dir;
+}
 
 struct Result {
   int status = -1;
@@ -72,6 +106,42 @@ class CoxswainCli : public ::testing::Test {
       text.replace(text.find(from), from.size(), (dir_ / ("missing" + from.substr(5))).string());
     }
     return write("devices.yaml", text);
+  }
+
+  // Starts `coxswain --devices <absent> --log-dir runs run` (stderr to dir_/err) with an optional
+  // file-size limit (bytes; 0 = none) and SIGXFSZ at its default action, as a shell leaves it.
+  pid_t spawn_daemon(std::uint64_t file_size_limit = 0) {
+    const std::string devices = absent_devices().string();
+    const std::string runs = (dir_ / "runs").string();
+    const std::string err = (dir_ / "err").string();
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      const int fd = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) ::dup2(fd, 2);
+      ::signal(SIGXFSZ, SIG_DFL);
+      if (file_size_limit > 0) {
+        const rlimit limit{file_size_limit, file_size_limit};
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+      }
+      ::execl(COXSWAIN_EXE, COXSWAIN_EXE, "--devices", devices.c_str(), "--log-dir", runs.c_str(),
+              "run", static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    return pid;
+  }
+
+  // Waits (up to `timeout`) until the run's coxswain.log holds `text`.
+  bool wait_for_log(const std::string& text, std::chrono::seconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (fs::is_directory(dir_ / "runs")) {
+        for (const auto& e : fs::directory_iterator(dir_ / "runs")) {
+          if (slurp(e.path() / "coxswain.log").find(text) != std::string::npos) return true;
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
   }
 
   fs::path dir_;
@@ -130,20 +200,13 @@ TEST_F(CoxswainCli, PrintConfig) {
 // `coxswain run` with no device present keeps ticking at its rate, reports each missing device
 // once (not per tick) and exits cleanly on SIGTERM after commanding neutral outputs.
 TEST_F(CoxswainCli, RunsWithoutDevicesAndStopsOnSigterm) {
-  const fs::path devices = absent_devices();
   const fs::path runs = dir_ / "runs";
-  std::vector<std::string> args = {COXSWAIN_EXE, "--devices",   devices.string(),
-                                   "--log-dir",  runs.string(), "run"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 2, (dir_ / "err").c_str(), O_WRONLY | O_CREAT, 0644);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, COXSWAIN_EXE, &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  const pid_t pid = spawn_daemon();
+  ASSERT_GT(pid, 0);
+  // The first tick reports every device (a loaded or sanitized machine starts slowly), then the
+  // daemon ticks for 2 s more before it is asked to stop.
+  EXPECT_TRUE(wait_for_log("device camera: absent", std::chrono::seconds(30)));
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));
   ASSERT_EQ(::kill(pid, SIGTERM), 0);
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
@@ -168,8 +231,85 @@ TEST_F(CoxswainCli, RunsWithoutDevicesAndStopsOnSigterm) {
   ASSERT_TRUE(std::regex_search(
       log, m, std::regex(R"(stopping on SIGTERM: commanded neutral actuators; (\d+) ticks)")))
       << log;
-  // 2.5 s at 50 Hz is 125 ticks; a loaded test machine is allowed to start slowly.
+  // 2 s at 50 Hz is 100 ticks; a loaded test machine may skip some.
   EXPECT_GE(std::stoi(m[1].str()), 50);
+
+  // The daemon's own log lines are in the recording's /log (info and above), warnings as
+  // warnings (foxglove.Log level 3).
+  const RecordingSummary rec = read_recording(run_dir / "run.mcap");
+  EXPECT_TRUE(rec.report.complete) << rec.report.error;
+  ASSERT_TRUE(rec.counts.contains("/tick"));
+  EXPECT_GE(rec.counts.at("/tick"), 50U);
+  auto logged = [&](int level, const std::string& text) {
+    for (const auto& [l, message] : rec.log) {
+      if (l == level && message.find(text) != std::string::npos) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(logged(2, "flight recording to")) << rec.log.size() << " lines";
+  EXPECT_TRUE(logged(2, "mission 'kaboat2026'"));
+  for (const char* dev : {"lidar", "imu", "gnss", "arduino", "camera"}) {
+    EXPECT_TRUE(logged(3, std::string("device ") + dev + ": absent")) << dev;
+  }
+}
+
+// SIGKILL mid-run: the file holds every chunk closed before (about all but the last second), and
+// `coxswain replay` re-runs those ticks bit for bit.
+TEST_F(CoxswainCli, KilledMidRunReplays) {
+  const fs::path runs = dir_ / "runs";
+  const pid_t pid = spawn_daemon();
+  ASSERT_GT(pid, 0);
+  EXPECT_TRUE(wait_for_log("device camera: absent", std::chrono::seconds(30)));
+  std::this_thread::sleep_for(std::chrono::milliseconds(3000));  // some chunks closed
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "exited " << WEXITSTATUS(status) << "\n"
+                                   << slurp(dir_ / "err");
+
+  const fs::path mcap = only_run(runs) / "run.mcap";
+  const RecordingSummary rec = read_recording(mcap);
+  EXPECT_TRUE(rec.report.header_ok);
+  EXPECT_FALSE(rec.report.complete);  // no summary, no footer: it was killed
+  EXPECT_EQ(rec.report.chunk_crc_errors, 0U);
+  EXPECT_GE(rec.counts.at("/tick"), 50U);  // at least a second of ticks survived
+  const Result r = run({"replay", mcap.string()});
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("truncated"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("identical"), std::string::npos) << r.out;
+}
+
+// The recording's disk fills up (here: a 64 KiB file-size limit, so write(2) fails with EFBIG a
+// few seconds in, after the schemas, the configuration and the first chunks):
+// the recording stops with an error line, the file keeps what was written, the boat's process
+// keeps ticking and stops normally.
+TEST_F(CoxswainCli, FullDiskSailsOn) {
+  const fs::path runs = dir_ / "runs";
+  const pid_t pid = spawn_daemon(64 * 1024);
+  ASSERT_GT(pid, 0);
+  const bool stopped =
+      wait_for_log("recorder: recording stopped, the run continues", std::chrono::seconds(60));
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // sailing on without it
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "the daemon died of signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << slurp(dir_ / "err");
+  EXPECT_TRUE(stopped) << "the recording never hit the limit";
+  const fs::path run_dir = only_run(runs);
+  const std::string log = slurp(run_dir / "coxswain.log");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      log, m, std::regex(R"(stopping on SIGTERM: commanded neutral actuators; (\d+) ticks)")))
+      << log;
+  // Ticking went on after the recording stopped (2 s at 50 Hz after it, and the time before).
+  EXPECT_GE(std::stoi(m[1].str()), 100);
+  const fs::path mcap = run_dir / "run.mcap";
+  EXPECT_LE(fs::file_size(mcap), 64U * 1024U);
+  const RecordingSummary rec = read_recording(mcap);
+  EXPECT_TRUE(rec.report.header_ok);
+  EXPECT_EQ(rec.report.chunk_crc_errors, 0U);
+  EXPECT_TRUE(rec.counts.contains("/tick"));  // the chunks closed before the disk filled
 }
 
 // `coxswain decode` prints one JSON object per message and a summary line; it needs no config.

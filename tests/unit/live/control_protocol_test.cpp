@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The operator's command language, the status answer, the parameter table and the core's
-// parameter hand-over (MissionCore::apply_parameters between steps).
+// The operator's command language and the status answer.
 #include "coxswain/live/control_protocol.hpp"
 
 #include <gtest/gtest.h>
@@ -8,13 +7,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "../mission/mission_rig.hpp"
-
 namespace coxswain::live {
 namespace {
-
-using mission::test::base_config;
-using mission::test::Rig;
 
 TEST(ControlProtocol, ParsesEveryCommand) {
   std::string error;
@@ -106,77 +100,6 @@ TEST(ControlProtocol, TokenComparison) {
   EXPECT_FALSE(token_matches("s3cret", "s3cre"));
   EXPECT_FALSE(token_matches("s3cret", ""));
   EXPECT_FALSE(token_matches("", ""));  // no configured token: buttons stay off
-}
-
-TEST(ControlProtocol, ParametersAreRangeCheckedAndValidated) {
-  mission::TunableParameters p;
-  const double kp = p.heading_pid.kp_per_deg;
-  EXPECT_EQ(set_parameter(p, "heading_pid.kp_per_deg", 0.05), "");
-  EXPECT_DOUBLE_EQ(p.heading_pid.kp_per_deg, 0.05);
-  EXPECT_NE(kp, 0.05);
-  EXPECT_NE(set_parameter(p, "heading_pid.kp_per_deg", 5.0).find("within"), std::string::npos);
-  EXPECT_NE(set_parameter(p, "heading_pid.kp_per_deg", -1.0), "");
-  EXPECT_NE(set_parameter(p, "heading_pid.kp_per_deg", std::nan("")), "");
-  EXPECT_DOUBLE_EQ(p.heading_pid.kp_per_deg, 0.05);  // unchanged by the refusals
-  EXPECT_NE(set_parameter(p, "no.such", 1.0).find("unknown"), std::string::npos);
-  EXPECT_NE(set_parameter(p, "clustering.min_group_points", 2.5).find("whole"), std::string::npos);
-  EXPECT_EQ(set_parameter(p, "clustering.min_group_points", 6.0), "");
-  EXPECT_EQ(p.clustering.min_group_points, 6U);
-  for (const ParameterSpec& spec : parameter_specs()) {
-    mission::TunableParameters d;
-    const double v = spec.get(d);
-    EXPECT_GE(v, spec.min) << spec.name << ": the default must lie in the range";
-    EXPECT_LE(v, spec.max) << spec.name;
-    EXPECT_EQ(set_parameter(d, spec.name, v), "") << spec.name;
-    EXPECT_EQ(find_parameter(spec.name), &spec);
-  }
-}
-
-config::Configuration hopping() {
-  config::Configuration c = base_config(config::TaskType::kHopping);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo(core::NavPoint{30.0, 0.0}));
-  return c;
-}
-
-TEST(MissionCoreParameters, ApplyRejectsInvalidSetsAndKeepsTheOldOne) {
-  mission::MissionCore core(hopping());
-  mission::TunableParameters p = core.parameters();
-  const double kp = p.heading_pid.kp_per_deg;
-  p.heading_pid.kp_per_deg = -1.0;
-  EXPECT_NE(core.apply_parameters(p), "");
-  EXPECT_DOUBLE_EQ(core.parameters().heading_pid.kp_per_deg, kp);
-  p = core.parameters();
-  p.clustering.min_group_points = 0;
-  EXPECT_NE(core.apply_parameters(p).find("clustering"), std::string::npos);
-  p = core.parameters();
-  p.heading_pid.kp_per_deg = 2.0 * kp;
-  p.clustering.group_gap_m = 0.2;
-  EXPECT_EQ(core.apply_parameters(p), "");
-  EXPECT_DOUBLE_EQ(core.parameters().heading_pid.kp_per_deg, 2.0 * kp);
-  EXPECT_DOUBLE_EQ(core.parameters().clustering.group_gap_m, 0.2);
-}
-
-TEST(MissionCoreParameters, ANewGainChangesTheNextStepsTurn) {
-  Rig soft(hopping());
-  Rig stiff(hopping());
-  for (Rig* r : {&soft, &stiff}) {
-    ASSERT_TRUE(r->run_until([&] { return r->path().find("hopping") != std::string::npos; }, 5.0))
-        << r->path() << "\n"
-        << r->log_text();
-  }
-  mission::TunableParameters p = soft.core.parameters();
-  ASSERT_EQ(soft.core.apply_parameters(p), "");  // same gains, fresh PID: a fair comparison
-  p.heading_pid.kp_per_deg *= 2.0;
-  ASSERT_EQ(stiff.core.apply_parameters(p), "");
-  soft.heading_deg = stiff.heading_deg = 8.0;  // the waypoint is due north: 8 deg to port
-  soft.tick();
-  stiff.tick();
-  const double a = soft.out.viz.turn_command;
-  const double b = stiff.out.viz.turn_command;
-  EXPECT_LT(a, 0.0);  // turn to port
-  EXPECT_LT(b, a);    // harder to port with twice the gain
-  EXPECT_NEAR(b / a, 2.0, 0.3);
 }
 
 }  // namespace

@@ -55,5 +55,41 @@ TEST(MissionAllocation, StepDoesNotAllocate) {
   EXPECT_GT(rig->out.viz.segment_count, 0U);
 }
 
+// A live parameter set applied between two steps may allocate (the clusterer's buffers, an
+// operator action); the steps after it must not.
+TEST(MissionAllocation, StepsAfterALiveParameterChangeDoNotAllocate) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  add_circle(rig->scan, 10.0, 0.5, 0.5);
+  rig->log.reserve(64);
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  TunableParameters p = rig->core.parameters();
+  p.heading_pid.kp_per_deg *= 1.5;
+  p.clustering.group_gap_m = 0.15;
+  p.avoidance.clearance_m = 0.5;
+  p.speed.max_thrust_frac = 0.8;
+  p.vision.colours[0].hsv.s_min = 100;
+  ASSERT_EQ(rig->core.apply_parameters(p), "");
+  rig->lidar();  // the first scan through the rebuilt clusterer sizes its buffers
+  rig->core.step(*rig->snap, rig->now, rig->out);
+  rig->now += kTickNs;
+  const long before = g_allocations.load();
+  for (int i = 0; i < 500; ++i) {
+    if (i % 5 == 0) rig->lidar();
+    if (i % 10 == 0) rig->gnss(rig->position);
+    rig->imu(rig->heading_deg);
+    rig->publish_arduino();
+    rig->core.step(*rig->snap, rig->now, rig->out);
+    rig->integrate();
+    rig->now += kTickNs;
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(rig->out.viz.has_avoidance);
+}
+
 }  // namespace
 }  // namespace coxswain::mission::test

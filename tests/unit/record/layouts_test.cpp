@@ -3,10 +3,12 @@
 // FORMAT.md documents exactly the layouts the code writes.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "coxswain/record/layouts.hpp"
@@ -218,12 +220,37 @@ TEST(Layouts, FullTickFitsAndRoundTrips) {
   EXPECT_FALSE(decode_tick(std::span(buf).first(n - 1), *back));
 }
 
+TEST(Layouts, ParameterSetRoundTripsEveryBitAndRejectsWhatDoesNotFit) {
+  const NamedValue values[] = {{"heading_pid.kp_per_deg", 0.1 + 0.2},
+                               {"avoidance.strategy", 2.0},
+                               {"vision.red.h_min", 170.0}};
+  std::vector<std::uint8_t> buf(kMaxParameterBytes);
+  const std::size_t n = encode_parameters(buf, 1234, -5, values);
+  ASSERT_GT(n, 0U);
+  ParameterSetRecord back;
+  ASSERT_TRUE(decode_parameters(std::span(buf).first(n), back));
+  EXPECT_EQ(back.tick_index, 1234U);
+  EXPECT_EQ(back.stamp_ns, -5);
+  ASSERT_EQ(back.values.size(), 3U);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(back.values[i].first, values[i].name);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(back.values[i].second),
+              std::bit_cast<std::uint64_t>(values[i].value));
+  }
+  EXPECT_FALSE(decode_parameters(std::span(buf).first(n - 1), back));
+  EXPECT_EQ(encode_parameters(std::span(buf).first(20), 1, 0, values), 0U);  // too small
+  const std::string long_name(300, 'x');
+  const NamedValue too_long[] = {{long_name, 1.0}};
+  EXPECT_EQ(encode_parameters(buf, 1, 0, too_long), 0U);
+}
+
 TEST(Layouts, FormatDocumentHoldsEveryLayoutText) {
   std::ifstream in(std::string(COXSWAIN_SOURCE_DIR) + "/src/record/FORMAT.md");
   ASSERT_TRUE(in) << "src/record/FORMAT.md missing";
   const std::string doc{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  for (Layout l : {Layout::kRaw, Layout::kTick, Layout::kGnss, Layout::kImu, Layout::kLidar,
-                   Layout::kCamera, Layout::kArduino, Layout::kOperator, Layout::kHealth}) {
+  for (Layout l :
+       {Layout::kRaw, Layout::kTick, Layout::kGnss, Layout::kImu, Layout::kLidar, Layout::kCamera,
+        Layout::kArduino, Layout::kOperator, Layout::kHealth, Layout::kParameters}) {
     EXPECT_NE(doc.find(std::string(layout_schema_text(l))), std::string::npos)
         << layout_schema_name(l) << " is not documented verbatim in FORMAT.md";
   }

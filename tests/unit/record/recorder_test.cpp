@@ -58,6 +58,7 @@ struct FileSummary {
   std::map<std::string, std::uint64_t> counts;  // per topic
   std::map<msg::DeviceId, std::vector<std::uint8_t>> raw_from_device;
   std::vector<TickRecordData> ticks;
+  std::vector<ParameterSetRecord> parameter_sets;
   std::map<std::string, std::string> schema_encoding;  // per topic
 };
 
@@ -82,6 +83,9 @@ FileSummary summarize(const fs::path& path) {
     } else if (topic == "/tick") {
       s.ticks.emplace_back();
       EXPECT_TRUE(decode_tick(m.data, s.ticks.back()));
+    } else if (topic == "/params") {
+      s.parameter_sets.emplace_back();
+      EXPECT_TRUE(decode_parameters(m.data, s.parameter_sets.back()));
     }
   });
   for (const auto& [id, c] : reader.channels()) {
@@ -160,6 +164,11 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
       in.state_path = "ACTIVE:HOPPING";
       in.viz = i % 2 == 0 ? &viz : nullptr;
       EXPECT_TRUE(rec.record_tick(in));
+      if (i == 60) {
+        const NamedValue values[] = {{"heading_pid.kp_per_deg", 0.1 + 0.2},
+                                     {"vision.red.h_min", 168.0}};
+        EXPECT_TRUE(rec.record_parameters(61, in.now_ns, values));
+      }
       if (i % 10 == 0) logger->info("tick {}", i);
       std::this_thread::sleep_for(500us);
     }
@@ -212,6 +221,14 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   EXPECT_EQ(st[RecordChannel::kVizScene].written, 50U);
   EXPECT_EQ(st[RecordChannel::kVizPose].written, 50U);
   EXPECT_EQ(st[RecordChannel::kLog].written, 10U);
+  EXPECT_EQ(st[RecordChannel::kParams].written, 1U);
+  ASSERT_EQ(f.parameter_sets.size(), 1U);
+  EXPECT_EQ(f.parameter_sets[0].tick_index, 61U);
+  ASSERT_EQ(f.parameter_sets[0].values.size(), 2U);
+  EXPECT_EQ(f.parameter_sets[0].values[0].first, "heading_pid.kp_per_deg");
+  EXPECT_EQ(f.parameter_sets[0].values[0].second, 0.1 + 0.2);  // every bit
+  EXPECT_EQ(f.parameter_sets[0].values[1].first, "vision.red.h_min");
+  EXPECT_EQ(f.schema_encoding.at("/params"), "coxswain-layout");
   ASSERT_EQ(f.ticks.size(), 100U);
   for (std::size_t i = 0; i < f.ticks.size(); ++i) {
     EXPECT_EQ(f.ticks[i].tick_index, i);
@@ -267,6 +284,37 @@ TEST(Recorder, ProducersNeverBlockOnFullQueuesAndDropsAreCounted) {
   EXPECT_EQ(st[RecordChannel::kTick].written, static_cast<std::uint64_t>(accepted));
   const FileSummary f = summarize(path);
   EXPECT_EQ(f.counts.at("/raw/imu"), st[RecordChannel::kRawImu].written);
+  fs::remove(path);
+}
+
+// The spdlog sink on a logger shared by several threads: each line is queued without waiting
+// (a full queue drops and counts it), so written + dropped = every line logged.
+TEST(Recorder, LogSinkNeverWaitsAndCountsEveryLineItCannotQueue) {
+  const fs::path path = temp_path("log_flood.mcap");
+  core::SteadyClock clock;
+  RecorderOptions o = fast_options(path);
+  o.log_queue_slots = 4;
+  o.idle_sleep_ns = 20 * core::kNsPerMs;  // a slow writer: the queue fills
+  Recorder rec(o, nullptr, clock);
+  ASSERT_TRUE(rec.start());
+  auto logger = std::make_shared<spdlog::logger>("flood", rec.log_sink());
+  constexpr int kThreads = 3;
+  constexpr int kLines = 2000;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < kLines; ++i) logger->warn("thread {} line {}", t, i);
+    });
+  }
+  for (auto& t : threads) t.join();
+  rec.stop();
+  const RecorderStats st = rec.stats();
+  EXPECT_EQ(st[RecordChannel::kLog].written + st[RecordChannel::kLog].dropped,
+            static_cast<std::uint64_t>(kThreads * kLines));
+  EXPECT_GT(st[RecordChannel::kLog].dropped, 0U);
+  EXPECT_GT(st[RecordChannel::kLog].written, 0U);
+  const FileSummary f = summarize(path);
+  EXPECT_EQ(f.counts.at("/log"), st[RecordChannel::kLog].written);
   fs::remove(path);
 }
 

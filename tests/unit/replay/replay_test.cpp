@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Replay against a short recorded simulator run: identical as recorded; every tampered field is
-// reported at its tick; missing scans and undecodable ticks are counted; the recorded
-// configuration reads back to the same configuration.
+// reported at its tick; missing scans and undecodable ticks are counted; a live parameter change
+// is replayed at its tick; the recorded configuration reads back to the same configuration.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -184,6 +184,71 @@ TEST(RecordedConfiguration, DoublesAndHeightsRoundTripExactly) {
       EXPECT_EQ(bits(got[k].height_m), bits(want[k].height_m)) << "task " << i << " wp " << k;
     }
   }
+}
+
+// The operator retunes the boat mid-run (heading gain and speed schedule, as the live view's
+// parameter interface would): the recording carries the applied set on /params and replay applies
+// it before the same tick, so every decision matches; left out, the replay diverges from there.
+TEST_F(ReplayTest, ALiveParameterChangeIsRecordedAndReplayedAtTheSameTick) {
+  test::ParameterChange change;
+  change.at_s = 7.0;  // sailing the first leg by then
+  change.edit = [](mission::TunableParameters& p) {
+    p.heading_pid.kp_per_deg *= 1.8;
+    p.speed.min_thrust_frac = 0.5;
+    p.speed.max_thrust_frac = 0.8;
+  };
+  const fs::path mcap = dir_ / "retuned.mcap";
+  const auto made = test::record_sim_run(mcap, *config_, "kaboat2022_hopping.yaml", 12.0, change);
+  ASSERT_TRUE(made.ok) << made.error;
+  ASSERT_EQ(made.parameters_error, "");
+  EXPECT_EQ(made.dropped, 0U);
+  const Recording rec = load_recording(mcap);
+  ASSERT_TRUE(rec.ok) << rec.error;
+  ASSERT_EQ(rec.parameter_sets.size(), 1U);
+  const record::ParameterSetRecord& set = rec.parameter_sets[0];
+  // About 7 s at 50 Hz: the first tick stepped with the new set.
+  EXPECT_GE(set.tick_index, 349U);
+  EXPECT_LE(set.tick_index, 352U);
+  bool kp_recorded = false;
+  for (const auto& [name, value] : set.values) {
+    if (name == "heading_pid.kp_per_deg") {
+      kp_recorded = std::bit_cast<std::uint64_t>(value) ==
+                    std::bit_cast<std::uint64_t>(config_->mission.heading_pid.kp_per_deg * 1.8);
+    }
+  }
+  EXPECT_TRUE(kp_recorded);
+
+  const ReplayReport r = replay(rec, *config_);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.identical()) << format_replay_report(r, true);
+  EXPECT_EQ(r.parameter_sets_applied, 1U);
+  ASSERT_EQ(r.parameter_ticks.size(), 1U);
+  EXPECT_EQ(r.parameter_ticks[0], set.tick_index);
+  EXPECT_NE(format_replay_report(r, false).find("1 live parameter set applied at tick " +
+                                                std::to_string(set.tick_index)),
+            std::string::npos)
+      << format_replay_report(r, false);
+
+  ReplayOptions without;
+  without.apply_parameter_sets = false;
+  const ReplayReport w = replay(rec, *config_, without);
+  ASSERT_TRUE(w.ok);
+  EXPECT_FALSE(w.identical());
+  ASSERT_TRUE(w.first_divergence_tick);
+  EXPECT_GE(*w.first_divergence_tick, set.tick_index);
+  EXPECT_LT(*w.first_divergence_tick, set.tick_index + 50);  // within a second of the change
+}
+
+TEST_F(ReplayTest, ARecordedSetTheCoreRefusesIsCountedNotApplied) {
+  Recording rec = *recording_;
+  rec.parameter_sets.push_back({100, 0, {{"heading_pid.kp_per_deg", 7.0}}});  // out of range
+  rec.parameter_sets.push_back({200, 0, {{"no.such.parameter", 1.0}}});
+  const ReplayReport r = replay(rec, *config_);
+  EXPECT_EQ(r.parameter_sets_refused, 2U);
+  EXPECT_EQ(r.parameter_sets_applied, 0U);
+  EXPECT_TRUE(r.identical());
+  EXPECT_NE(format_replay_report(r, false).find("warning: 2 recorded parameter sets"),
+            std::string::npos);
 }
 
 TEST_F(ReplayTest, UnreadableFilesAreNotRecordings) {

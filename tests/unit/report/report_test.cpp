@@ -34,6 +34,40 @@ class ReportTest : public ::testing::Test {
   static inline fs::path dir_;
 };
 
+// A run the operator retuned live: the page lists each changed value with its tick.
+TEST_F(ReportTest, LiveParameterChangesAreListed) {
+  const config::Configuration c = test::shipped_config("hopping");
+  test::ParameterChange change;
+  change.at_s = 5.0;
+  change.edit = [](mission::TunableParameters& p) { p.heading_pid.kd_per_dps = 0.05; };
+  const fs::path mcap = dir_ / "retuned.mcap";
+  const auto made = test::record_sim_run(mcap, c, "kaboat2022_hopping.yaml", 8.0, change);
+  ASSERT_TRUE(made.ok) << made.error;
+  std::ostringstream out;
+  std::ostringstream err;
+  ASSERT_EQ(run_report_command(mcap, dir_ / "retuned.html", nullptr, out, err), 0) << err.str();
+  std::ifstream in(dir_ / "retuned.html");
+  std::stringstream page;
+  page << in.rdbuf();
+  const std::string html = page.str();
+  const auto table = html.find("<table id=\"parameters\">");
+  ASSERT_NE(table, std::string::npos);
+  const std::string rows = html.substr(table, html.find("</table>", table) - table);
+  EXPECT_NE(rows.find("<td>heading_pid.kd_per_dps</td><td>" +
+                      std::to_string(c.mission.heading_pid.kd_per_dps).substr(0, 4)),
+            std::string::npos)
+      << rows;
+  EXPECT_NE(rows.find("<td>0.05</td></tr>"), std::string::npos) << rows;
+  EXPECT_EQ(rows.find("kp_per_deg"), std::string::npos) << "only what changed: " << rows;
+  // And a page without changes says so.
+  std::ostringstream out2;
+  ASSERT_EQ(run_report_command(dir_ / "run.mcap", dir_ / "plain.html", nullptr, out2, err), 0);
+  std::ifstream plain(dir_ / "plain.html");
+  std::stringstream plain_page;
+  plain_page << plain.rdbuf();
+  EXPECT_NE(plain_page.str().find("<td colspan=\"5\">none</td>"), std::string::npos);
+}
+
 nlohmann::json page_data(const std::string& html) {
   const std::string open = "<script type=\"application/json\" id=\"report-data\">";
   const auto a = html.find(open);

@@ -12,6 +12,13 @@ MissionPilot::MissionPilot(const config::Configuration& config)
 
 void MissionPilot::step(const core::Snapshot& snapshot, core::TimeNs now_ns,
                         msg::ActuatorCommand& out) {
+  if (requested_) {
+    parameters_error_ = core_->apply_parameters(*requested_);
+    requested_.reset();
+    if (parameters_error_.empty() && recorder_ != nullptr) {
+      recorder_->record_parameters(core_->parameters(), now_ns);
+    }
+  }
   core_->step(snapshot, now_ns, *out_);
   if (recorder_ != nullptr) recorder_->record_tick(snapshot, now_ns, *out_);
   out = out_->command;

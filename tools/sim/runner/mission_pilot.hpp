@@ -5,6 +5,7 @@
 // CoreOutput and every state transition (for result.json). Deterministic; runner thread only.
 // The transition log grows with the run (a host-side record, not the pure core).
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ class MissionPilot final : public Pilot {
 
   /// Records every tick into `recorder` (null = no recording); it must outlive the run.
   void set_recorder(RunRecorder* recorder) { recorder_ = recorder; }
+  /// A parameter set to apply before the next step, as the daemon applies a live request
+  /// (MissionCore::apply_parameters between two steps); an applied set is recorded (/params).
+  void request_parameters(const mission::TunableParameters& params) { requested_ = params; }
+  /// What the last request came to: empty when applied, else why the core refused it.
+  [[nodiscard]] const std::string& parameters_error() const { return parameters_error_; }
+  [[nodiscard]] mission::TunableParameters parameters() const { return core_->parameters(); }
   [[nodiscard]] const mission::CoreOutput& output() const { return *out_; }
   [[nodiscard]] const mission::MissionStatus& status() const { return out_->status; }
   [[nodiscard]] const std::vector<TransitionRecord>& transitions() const { return transitions_; }
@@ -49,6 +56,8 @@ class MissionPilot final : public Pilot {
   std::vector<core::TimeNs> hold_entries_;
   bool was_holding_ = false;
   RunRecorder* recorder_ = nullptr;
+  std::optional<mission::TunableParameters> requested_;
+  std::string parameters_error_;
 };
 
 }  // namespace coxswain::sim::runner

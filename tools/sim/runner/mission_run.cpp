@@ -137,7 +137,7 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
     suite.set_lidar_publishing(!lidar_off);
   }
   r.outcome = runner.run();  // already over: collects the outcome
-  if (recorder) (void)recorder->stop();
+  if (recorder) r.recording = recorder->stop();
   r.status = pilot.status();
   r.transitions = pilot.transitions();
   if (options.record_path) r.path = runner.path();
@@ -177,6 +177,20 @@ nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed) {
     tr.push_back({{"t_s", t.t_s}, {"from", t.from}, {"to", t.to}, {"reason", t.reason}});
   }
   j["transitions"] = tr;
+  if (result.recording) {
+    nlohmann::json written = nlohmann::json::object();
+    nlohmann::json dropped = nlohmann::json::object();
+    for (std::size_t i = 0; i < record::kRecordChannelCount; ++i) {
+      const auto c = static_cast<record::RecordChannel>(i);
+      const std::string topic(record::channel_topic(c));
+      written[topic] = (*result.recording)[c].written;
+      dropped[topic] = (*result.recording)[c].dropped;
+    }
+    j["recording"] = {{"written", written},
+                      {"dropped", dropped},
+                      {"failed", result.recording->failed},
+                      {"error", result.recording->error}};
+  }
   return j;
 }
 

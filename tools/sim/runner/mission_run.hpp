@@ -5,12 +5,14 @@
 // `coxswain-sim batch`, the scenario tests and the benchmark share. Pure apart from allocation:
 // no I/O, no clock; one call per thread (the Course may be shared read-only between threads).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/record/recorder.hpp"
 #include "sim/runner/lockstep_runner.hpp"
 #include "sim/runner/mission_pilot.hpp"
 #include "sim/sensors/sensor_config.hpp"
@@ -54,6 +56,8 @@ struct MissionRunResult {
   std::vector<core::NavPose> path;
   std::uint64_t camera_frames = 0;
   bool passed = false;
+  /// With a recording: the recorder's own counters at the end (per channel written/dropped).
+  std::optional<record::RecorderStats> recording;
   /// Per outage: seconds from its start to the mission holding (-1 never), and whether the
   /// mission left hold after the sensors came back.
   std::vector<double> hold_delay_s;
@@ -71,7 +75,8 @@ struct MissionRunResult {
                                            const MissionRunOptions& options);
 
 /// result.json: the scoring JSON plus "mission" (status), "transitions", "passed", "seed",
-/// "trajectory_hash".
+/// "trajectory_hash", and with a recording "recording": {"written": {topic: n}, "dropped":
+/// {topic: n}, "failed", "error"} (the recorder's counters, which the file must match).
 [[nodiscard]] nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed);
 
 }  // namespace coxswain::sim::runner

@@ -116,6 +116,11 @@ void RunRecorder::record_tick(const core::Snapshot& snapshot, core::TimeNs now_n
   ++tick_index_;
 }
 
+void RunRecorder::record_parameters(const mission::TunableParameters& params, core::TimeNs now_ns) {
+  if (!started_) return;
+  (void)recorder_->record_parameters(tick_index_, now_ns, app::named_values(params));
+}
+
 record::RecorderStats RunRecorder::stop() {
   if (started_) {
     recorder_->stop();

@@ -40,6 +40,8 @@ class RunRecorder {
   /// Records one tick exactly as the daemon does (command, state path, viz).
   void record_tick(const core::Snapshot& snapshot, core::TimeNs now_ns,
                    const mission::CoreOutput& out);
+  /// Records a parameter set applied before the next record_tick() (the daemon's /params).
+  void record_parameters(const mission::TunableParameters& params, core::TimeNs now_ns);
   /// Takes every new store value into the recording (the recorder runs no sampler thread here:
   /// virtual time would outrun it and lose IMU samples). Call after every LockstepRunner step
   /// (LockstepRunner::set_step_observer); waits (real time, bounded) for queue room first.

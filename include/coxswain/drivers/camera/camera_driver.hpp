@@ -80,6 +80,13 @@ class CameraDriver {
 
   [[nodiscard]] const SourceSpec& source() const { return spec_; }
 
+  /// New detector tunables (live retuning, e.g. the HSV boxes), taken by the camera thread before
+  /// its next frame; the camera's field of view and mount yaw are kept. Wait-free, one caller
+  /// thread at a time (the tick thread); check vision.validate() first.
+  void set_vision(const perception::VisionParams& vision);
+  /// The detector tunables the camera thread uses (for tests; call while it is stopped).
+  [[nodiscard]] const perception::VisionParams& vision() const { return pipeline_.params(); }
+
  private:
   void run();
   bool wait_for_stop(core::TimeNs duration_ns);
@@ -88,8 +95,11 @@ class CameraDriver {
   void on_frame(const ReadResult& r);
 
   config::CameraDeviceConfig config_;
+  core::MountTransform mount_;
   SourceSpec spec_;
   perception::CameraPipeline pipeline_;
+  core::LatestSlot<perception::VisionParams> vision_in_;  // set_vision() -> camera thread
+  std::uint64_t vision_seen_ = 0;                         // camera thread
   core::LatestSlot<msg::CameraDetections>& detections_out_;
   core::LatestSlot<msg::DeviceHealth>& health_out_;
   const core::Clock& clock_;

@@ -118,6 +118,47 @@ TEST(CameraDriver, ImageDirectoryDetectionsHealthAndFrames) {
   EXPECT_EQ(rig.h().detail_text(), "stopped");
 }
 
+// Live retuning (the live view's vision.<colour>.* parameters): a new HSV box reaches the camera
+// thread between two frames. Purple's hue box moved off the buoy's hue loses the buoy; moved back,
+// the buoy is seen again; the field of view and mount yaw stay the camera's.
+TEST(CameraDriver, NewHsvRangesAreTakenBeforeTheNextFrame) {
+  ScratchDir dir("drv_retune");
+  ASSERT_TRUE(cv::imwrite((dir.path() / "a.png").string(), buoy_frame(kWidth, kHeight, 480.0F)));
+  Rig rig;
+  core::SteadyClock clock;
+  const core::MountTransform mount{10.0, 0.05, 0.0};
+  const perception::VisionParams defaults = perception::VisionParams::defaults();
+  CameraDriver driver(camera_config(dir.path().string()), mount, defaults, rig.detections,
+                      rig.health, clock);
+  driver.start();
+  ASSERT_TRUE(wait_until([&] { return !std::isnan(purple_bearing_deg(rig)); }));
+
+  perception::VisionParams blind = defaults;
+  const int purple = blind.find_colour(Colour::kPurple);
+  ASSERT_GE(purple, 0);
+  auto& hsv = blind.colours[static_cast<std::size_t>(purple)].hsv;
+  hsv.h_min = 60;  // green hues: the purple buoy no longer matches
+  hsv.h_max = 70;
+  ASSERT_EQ(blind.validate(), "");
+  driver.set_vision(blind);
+  // Two frames after the request have been processed with the new box.
+  auto next_two_frames = [&] {
+    const std::uint64_t seq = rig.detections.sequence();
+    return wait_until([&] { return rig.detections.sequence() >= seq + 2; });
+  };
+  ASSERT_TRUE(next_two_frames());
+  EXPECT_TRUE(std::isnan(purple_bearing_deg(rig)));
+  driver.set_vision(defaults);
+  ASSERT_TRUE(next_two_frames());
+  const double b = purple_bearing_deg(rig);
+  ASSERT_FALSE(std::isnan(b));
+  EXPECT_NEAR(b, expected_bearing_deg(480.0, 10.0), 0.5);  // hfov and mount yaw kept
+  driver.stop();
+  EXPECT_EQ(driver.vision().colours[static_cast<std::size_t>(purple)].hsv.h_min,
+            defaults.colours[static_cast<std::size_t>(purple)].hsv.h_min);
+  EXPECT_DOUBLE_EQ(driver.vision().hfov_deg, 60.0);
+}
+
 TEST(CameraDriver, PlaybackWithoutLoopEndsStale) {
   ScratchDir dir("drv_noloop");
   for (int i = 0; i < 2; ++i) {
