@@ -35,16 +35,26 @@ class Course2Task final : public Task {
                perception::MarkerVote(m.vision_vote), perception::MarkerVote(m.vision_vote),
                perception::MarkerVote(m.vision_vote), perception::MarkerVote(m.vision_vote)} {
     check(m.course2.circling.validate());
+    std::string error;
+    auto av = guidance::Avoidance::create(m.avoidance, &error);
+    if (!av) throw std::invalid_argument("avoidance: " + error);
+    avoidance_.emplace(std::move(*av));
     colour_count_ = std::min<std::size_t>(m.course2.colours.size(), colours_.size());
     for (std::size_t i = 0; i < colour_count_; ++i) colours_[i] = m.course2.colours[i];
   }
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu; }
 
+  void retune_avoidance(const guidance::AvoidanceParams& params) override {
+    // Validated by the core: create() cannot fail here. The new engine starts without a side.
+    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
+  }
+
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;
     circling_.reset();
+    avoidance_->reset();
     tracked_ = false;
     for (auto& v : votes_) v.reset();
     phase_ = Phase::kCircling;
@@ -67,12 +77,16 @@ class Course2Task final : public Task {
       return TaskResult::kDone;
     }
     out.steer = true;
-    out.desired_heading_deg = g.desired_heading_deg;
     out.schedule_distance_m = g.distance_to_go_m;
+    steer_clear(*avoidance_, ctx, g.desired_heading_deg, kAvoidReachM, near_, out);
     return TaskResult::kRunning;
   }
 
  private:
+  // Leaving the circle, the buoy itself is in the way: every leg after it avoids obstacles
+  // this near.
+  static constexpr double kAvoidReachM = 8.0;
+
   TaskResult circle(const TaskContext& ctx, GuidanceRequest& out) {
     guidance::BuoyObservation obs;
     const msg::Detection* seen = nullptr;
@@ -187,9 +201,10 @@ class Course2Task final : public Task {
       return to_waypoint(ctx, reason_printf("no colour within %.0f s", c_.colour_timeout_s), out);
     }
     out.steer = true;
-    out.desired_heading_deg =
-        control::true_from_course_deg(c_.exit_course_deg, ctx.course_zero_deg);
     out.thrust_frac = c_.seek_thrust_frac;
+    steer_clear(*avoidance_, ctx,
+                control::true_from_course_deg(c_.exit_course_deg, ctx.course_zero_deg),
+                kAvoidReachM, near_, out);
     return TaskResult::kRunning;
   }
 
@@ -206,6 +221,8 @@ class Course2Task final : public Task {
 
   config::Course2Config c_;
   guidance::BuoyCircling circling_;
+  std::optional<guidance::Avoidance> avoidance_;
+  perception::ObstacleList near_;
   RouteLeg leg_;
   std::array<perception::MarkerVote, 8> votes_;
   std::array<msg::Colour, 8> colours_{};

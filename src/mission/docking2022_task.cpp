@@ -73,6 +73,11 @@ class Docking2022Task final : public Task {
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
 
+  void retune_avoidance(const guidance::AvoidanceParams& params) override {
+    // Validated by the core: create() cannot fail here. The new engine starts without a side.
+    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
+  }
+
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;
@@ -239,24 +244,8 @@ class Docking2022Task final : public Task {
     out.steer = true;
     out.desired_heading_deg = g.desired_heading_deg;
     out.schedule_distance_m = g.distance_to_go_m;
-    if (ctx.lidar_fresh && ctx.obstacles != nullptr) {
-      // Only what lies before the goal is in the way: the docks behind a decision point are not.
-      const double reach_m = g.distance_to_go_m + 0.5;
-      near_.clear();
-      near_.stamp_ns = ctx.obstacles->stamp_ns;
-      for (std::uint32_t i = 0; i < ctx.obstacles->count; ++i) {
-        const perception::ObstacleSegment& s = ctx.obstacles->segments[i];
-        if (static_cast<double>(s.closest_range_m) <= reach_m) (void)near_.push(s);
-      }
-      const double goal_body = core::angle_diff_deg(g.desired_heading_deg, ctx.pose.heading_deg);
-      const guidance::AvoidanceDecision d = avoidance_->decide(near_, goal_body, ctx.now_ns);
-      out.desired_heading_deg = core::wrap_deg(ctx.pose.heading_deg + d.bearing_body_deg);
-      out.speed_factor = d.speed_factor;
-      VizFrame& v = *ctx.viz;
-      v.has_avoidance = true;
-      v.avoidance_bearing_body_deg = d.bearing_body_deg;
-      v.avoidance_status = static_cast<std::uint8_t>(d.status);
-    }
+    // Only what lies before the goal is in the way: the docks behind a decision point are not.
+    steer_clear(*avoidance_, ctx, g.desired_heading_deg, g.distance_to_go_m + 0.5, near_, out);
     return true;
   }
 

@@ -116,6 +116,26 @@ std::unique_ptr<Task> make_task(const config::TaskConfig& task, const config::Mi
   throw std::invalid_argument("unknown task type");
 }
 
+void steer_clear(guidance::Avoidance& avoidance, const TaskContext& ctx, double desired_heading_deg,
+                 double reach_m, perception::ObstacleList& scratch, GuidanceRequest& out) {
+  out.desired_heading_deg = desired_heading_deg;
+  if (!ctx.lidar_fresh || ctx.obstacles == nullptr) return;
+  scratch.clear();
+  scratch.stamp_ns = ctx.obstacles->stamp_ns;
+  for (std::uint32_t i = 0; i < ctx.obstacles->count; ++i) {
+    const perception::ObstacleSegment& s = ctx.obstacles->segments[i];
+    if (static_cast<double>(s.closest_range_m) <= reach_m) (void)scratch.push(s);
+  }
+  const double goal_body = core::angle_diff_deg(desired_heading_deg, ctx.pose.heading_deg);
+  const guidance::AvoidanceDecision d = avoidance.decide(scratch, goal_body, ctx.now_ns);
+  out.desired_heading_deg = core::wrap_deg(ctx.pose.heading_deg + d.bearing_body_deg);
+  out.speed_factor = d.speed_factor;
+  VizFrame& v = *ctx.viz;
+  v.has_avoidance = true;
+  v.avoidance_bearing_body_deg = d.bearing_body_deg;
+  v.avoidance_status = static_cast<std::uint8_t>(d.status);
+}
+
 guidance::LineFollowParams slip_line_params(const config::MissionConfig& m) {
   guidance::LineFollowParams p = m.waypoints.line;
   p.lookahead_m = m.docking.approach.lookahead_m;

@@ -78,6 +78,13 @@ class RouteLeg {
 
 ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m);
 
+/// Steers toward `desired_heading_deg` (true) around the lidar's obstacles nearer than `reach_m`
+/// (what lies beyond the goal is not in the way); sets the request's heading and speed factor and
+/// the avoidance part of the visualization. No lidar: the heading unchanged. `scratch` holds the
+/// filtered obstacles (fixed storage, no allocation).
+void steer_clear(guidance::Avoidance& avoidance, const TaskContext& ctx, double desired_heading_deg,
+                 double reach_m, perception::ObstacleList& scratch, GuidanceRequest& out);
+
 /// Line following into a slip: the mission's line-following gains, the docking look-ahead.
 guidance::LineFollowParams slip_line_params(const config::MissionConfig& m);
 
