@@ -321,12 +321,16 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     d.max_marker_fix_m = m->get("max_marker_fix_m", d.max_marker_fix_m, {0.0, 10.0});
     d.slip_match_m = m->get("slip_match_m", d.slip_match_m, kPositive);
     d.commit_range_m = m->get("commit_range_m", d.commit_range_m, kPositive);
+    d.sweep_wall_range_m = m->get("sweep_wall_range_m", d.sweep_wall_range_m, kPositive);
+    d.sweep_standoff_m = m->get("sweep_standoff_m", d.sweep_standoff_m, kPositive);
+    d.sweep_turn_back_m = m->get("sweep_turn_back_m", d.sweep_turn_back_m, kPositive);
     auto& sl = d.slip;
     sl.min_width_m = m->get("slip_min_width_m", sl.min_width_m, kPositive);
     sl.max_width_m = m->get("slip_max_width_m", sl.max_width_m, kPositive);
     sl.min_depth_m = m->get("slip_min_depth_m", sl.min_depth_m, kPositive);
     sl.max_depth_m = m->get("slip_max_depth_m", sl.max_depth_m, kPositive);
     sl.max_bearing_deg = m->get("slip_max_bearing_deg", sl.max_bearing_deg, {1.0, 180.0});
+    sl.max_axis_deg = m->get("slip_max_axis_deg", sl.max_axis_deg, {1.0, 180.0});
     check(*m, sl.validate());
     m->finish();
   }
@@ -805,11 +809,15 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "max_marker_fix_m", d.max_marker_fix_m);
   kv(out, "slip_match_m", d.slip_match_m);
   kv(out, "commit_range_m", d.commit_range_m);
+  kv(out, "sweep_wall_range_m", d.sweep_wall_range_m);
+  kv(out, "sweep_standoff_m", d.sweep_standoff_m);
+  kv(out, "sweep_turn_back_m", d.sweep_turn_back_m);
   kv(out, "slip_min_width_m", d.slip.min_width_m);
   kv(out, "slip_max_width_m", d.slip.max_width_m);
   kv(out, "slip_min_depth_m", d.slip.min_depth_m);
   kv(out, "slip_max_depth_m", d.slip.max_depth_m);
   kv(out, "slip_max_bearing_deg", d.slip.max_bearing_deg);
+  kv(out, "slip_max_axis_deg", d.slip.max_axis_deg);
   out << YAML::EndMap;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "coxswain/control/heading_reference.hpp"
 #include "coxswain/core/angles.hpp"
@@ -19,11 +20,12 @@ namespace coxswain::mission::detail {
 
 namespace {
 
-/// Find the slip's mouth in the lidar profile (two tips with a deeper inside, within the
-/// course's forward half-plane) and pursue a point along its axis, so the boat lines up before
-/// the mouth; once the mouth is near, hold the axis; stop when the range ahead is under the stop
-/// distance. Until the slip is in lidar range: the course's forward direction. Lidar and IMU only.
-/// ("The most open direction" of the plan picked a pond's corner beside the dock.)
+/// Find the slip's mouth in the lidar profile (two tips with a closed, deeper inside, within the
+/// course's forward half-plane) and follow its axis in, so the boat lines up before the mouth;
+/// stop when the range ahead is under the stop distance. Until the slip shows: the course's
+/// forward direction, and once the far wall is near without a slip, sweep along it (turning back
+/// at a side wall). Lidar and IMU only. ("The most open direction" of the plan picked a pond's
+/// corner beside the dock.)
 class Course3Task final : public Task {
  public:
   Course3Task(const config::TaskConfig& t, const config::MissionConfig& m)
@@ -39,6 +41,7 @@ class Course3Task final : public Task {
     if (!ctx.lidar_fresh) return reason_printf("no lidar scan");
     seen_ = false;
     committed_ = false;
+    sweep_side_ = 0;
     slip_.reset();
     set_phase("seek_slip", "task entered");
     return {};
@@ -48,6 +51,7 @@ class Course3Task final : public Task {
     const perception::RangeProfile& p = *ctx.profile;
     const std::optional<double> ahead =
         guidance::min_range_ahead_m(p, d_.approach.ahead_half_angle_deg);
+    // Also without a slip seen: the sweep keeps off walls, so this is the last word on safety.
     if (ahead && *ahead < d_.approach.stop_range_m) {
       set_reason(reason_printf("stopped %.2f m from the dock", *ahead));
       return TaskResult::kDone;
@@ -73,6 +77,7 @@ class Course3Task final : public Task {
     }
     out.steer = true;
     out.desired_heading_deg = forward_true;
+    if (!seen_) out.desired_heading_deg = seek_heading(ctx, forward_true);
     if (seen_) {
       // Committed (mouth close): the track is no longer updated; the line still steers.
       constexpr double kRayStartM = 4.0;
@@ -86,10 +91,43 @@ class Course3Task final : public Task {
   }
 
  private:
+  /// The course's forward direction until the far wall is near; then along the wall at the
+  /// stand-off, on the side with more room, turning back at a side wall.
+  double seek_heading(const TaskContext& ctx, double forward_true) {
+    const perception::RangeProfile& p = *ctx.profile;
+    const double forward_body = core::angle_diff_deg(forward_true, ctx.pose.heading_deg);
+    const auto range_at = [&](double body_deg) {
+      return range_near(p, body_deg, kSweepWindowDeg).value_or(d_.open_max_range_m);
+    };
+    const double to_wall_m = range_at(forward_body);
+    if (sweep_side_ == 0) {
+      if (to_wall_m > d_.sweep_wall_range_m) return forward_true;
+      sweep_side_ = range_at(forward_body + 90.0) >= range_at(forward_body - 90.0) ? 1 : -1;
+      set_phase(sweep_phase(), reason_printf("wall %.1f m ahead and no slip: along it", to_wall_m));
+    }
+    const double side_deg = 90.0 * sweep_side_;
+    if (range_at(forward_body + side_deg) < d_.sweep_turn_back_m) {
+      sweep_side_ = -sweep_side_;
+      set_phase(sweep_phase(), "side wall: turning back along the far wall");
+    }
+    // Hold the stand-off: too far, lean toward the wall; too near, away from it.
+    const double lean_deg =
+        std::clamp(kStandoffGainDegPerM * (to_wall_m - d_.sweep_standoff_m), -30.0, 30.0);
+    return core::wrap_deg(forward_true + sweep_side_ * (90.0 - lean_deg));
+  }
+
+  [[nodiscard]] std::string_view sweep_phase() const {
+    return sweep_side_ > 0 ? "sweep_starboard" : "sweep_port";
+  }
+
+  static constexpr double kSweepWindowDeg = 5.0;
+  static constexpr double kStandoffGainDegPerM = 15.0;
+
   config::DockingConfig d_;
   SlipTracker slip_;
   bool seen_ = false;
   bool committed_ = false;
+  int sweep_side_ = 0;  // 0 = not sweeping, +1 starboard, -1 port (of the course's forward)
 };
 
 }  // namespace

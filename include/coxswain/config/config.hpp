@@ -219,6 +219,9 @@ struct DockingConfig {
   double slip_match_m = 1.2;          // 2022: a lidar mouth this near where the map puts the
                                       // chosen slip is that slip (neighbours are farther)
   double commit_range_m = 1.5;        // 2026: mouth nearer than this: hold the slip's axis
+  double sweep_wall_range_m = 5.0;    // 2026: far wall this near and no slip: sweep along it
+  double sweep_standoff_m = 4.5;      // 2026: distance kept from the far wall while sweeping
+  double sweep_turn_back_m = 3.0;     // 2026: a side wall this near turns the sweep back
   guidance::SlipFinderParams slip;    // 2026: the slip mouth in the lidar profile
 };
 

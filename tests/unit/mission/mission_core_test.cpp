@@ -680,8 +680,8 @@ TEST(MissionCourse3, HoldsTheCourseForwardUntilASlipShowsAndStopsAtTheDock) {
   rig->live_gnss = false;  // lidar and IMU only
   // Scattered obstacles, no slip (two tips with a deeper inside): the course's forward direction,
   // not the most open gap (which in a pond is as likely a corner beside the dock).
-  add_circle(rig->scan, 3.0, 0.0, 1.0);
-  add_circle(rig->scan, 2.0, -2.5, 1.0);
+  add_circle(rig->scan, 7.0, 0.0, 1.0);
+  add_circle(rig->scan, 6.5, -2.5, 1.0);
   add_circle(rig->scan, 1.5, 4.0, 0.5);
   rig->run_for(0.4);
   ASSERT_EQ(rig->path(), "docking/seek_slip") << rig->log_text();
@@ -697,6 +697,35 @@ TEST(MissionCourse3, HoldsTheCourseForwardUntilASlipShowsAndStopsAtTheDock) {
   add_wall_ahead(rig->scan, 0.2, 1.0);
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
   EXPECT_TRUE(rig->logged("stopped 0.2"));
+}
+
+TEST(MissionCourse3, AFarWallWithoutASlipIsSweptAlongOnTheRoomierSideAndTurnedBackAtTheCorner) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.navigation.course_zero_deg = 0.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->live_gnss = false;
+  const config::DockingConfig& d = c.mission.docking;
+  // A plain wall 4 m ahead (inside sweep_wall_range_m), room to starboard, a side wall to port.
+  add_wall_ahead(rig->scan, 4.0, 30.0);
+  add_circle(rig->scan, 0.0, -6.0, 0.5);
+  ASSERT_LT(4.0, d.sweep_wall_range_m);
+  rig->run_for(0.4);
+  ASSERT_EQ(rig->path(), "docking/sweep_starboard") << rig->log_text();
+  // Along the wall to starboard, leaning toward it (4 m is nearer than the stand-off: away).
+  const double lean_away_deg = rig->out.viz.desired_heading_deg - 90.0;
+  EXPECT_GT(rig->out.viz.desired_heading_deg, 90.0);
+  EXPECT_LT(lean_away_deg, 30.0 + 1e-9);
+  EXPECT_GT(d.sweep_standoff_m, 4.0);
+  EXPECT_FALSE(rig->out.status.finished);  // a wall with no slip is not the dock
+  // A side wall to starboard nearer than sweep_turn_back_m: back along the wall to port.
+  rig->scan.clear();
+  add_wall_ahead(rig->scan, 4.0, 30.0);
+  add_circle(rig->scan, 0.0, d.sweep_turn_back_m - 1.0, 0.3);
+  rig->run_for(0.2);
+  EXPECT_EQ(rig->path(), "docking/sweep_port") << rig->log_text();
+  EXPECT_TRUE(rig->logged("side wall: turning back")) << rig->log_text();
+  EXPECT_LT(rig->out.viz.desired_heading_deg, -90.0 + 1e-9);
 }
 
 TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
