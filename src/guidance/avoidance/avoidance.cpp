@@ -484,16 +484,35 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   out.sweep_starboard_deg = sweep_starboard_deg_;
 
   // All blocked: shrink the range stepwise so only near obstacles count.
-  double limit = params_.detection_range_m;
-  if (params_.strategy == Strategy::kRiskBin) limit = std::min(limit, params_.risk_range_m());
+  const double full_limit = params_.strategy == Strategy::kRiskBin
+                                ? std::min(params_.detection_range_m, params_.risk_range_m())
+                                : params_.detection_range_m;
+  double limit = full_limit;
   std::uint8_t steps = 0;
-  bool found = compute_costs(limit);
-  while (!found) {
-    const double next = limit * params_.shrink_factor;
-    if (next < params_.min_detection_range_m) break;
-    limit = next;
-    ++steps;
-    found = compute_costs(limit);
+  const auto search = [&] {
+    limit = full_limit;
+    steps = 0;
+    bool any = compute_costs(limit);
+    while (!any) {
+      const double next = limit * params_.shrink_factor;
+      if (next < params_.min_detection_range_m) break;
+      limit = next;
+      ++steps;
+      any = compute_costs(limit);
+    }
+    return any;
+  };
+  bool found = search();
+  if (!found && params_.sweep_enabled) {
+    // The predicted arcs leave no way out (a boat at rest turns tighter than the arc, and a
+    // stop would hold it there for good): fall back to the plain rays from the bow, slowly.
+    sweep_port_deg_ = 180.0;
+    sweep_starboard_deg_ = 180.0;
+    out.sweep_port_deg = sweep_port_deg_;
+    out.sweep_starboard_deg = sweep_starboard_deg_;
+    for (std::size_t j = 0; j < n; ++j) range_m_[j] = bins_.range_m(j);
+    found = search();
+    if (found) steps = std::max<std::uint8_t>(steps, 1);
   }
   out.shrink_steps = steps;
   out.effective_range_m = limit;

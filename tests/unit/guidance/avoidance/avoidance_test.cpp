@@ -369,6 +369,23 @@ TEST(SweptHull, TheArcToAHeadingIsCheckedNotJustTheRayFromTheBow) {
   EXPECT_LT(d.bearing_body_deg, 35.0);  // passes inside, to port of the buoy
 }
 
+TEST(SweptHull, NoArcLeftFallsBackToTheRaysInsteadOfStoppingForGood) {
+  // A wall 1.6 m ahead ending 1 m to starboard, a buoy abeam to starboard: no arc of the turn
+  // radius gets out, but a boat at rest can turn onto a gap the bow rays see (about 60 deg).
+  const auto l = list_of({seg(1.6, -6.0, 1.6, 1.0), seg(-0.15, 1.8, -0.45, 1.8)});
+  for (const Strategy s : {Strategy::kSelection, Strategy::kScore}) {
+    Avoidance plain = make(s);
+    const auto p = plain.decide(l, 80.0, 0);
+    ASSERT_NE(p.status, AvoidanceStatus::kBlockedStop) << to_string(s);
+    Avoidance a = make(s, swept());
+    const auto d = a.decide(l, 80.0, 0);
+    EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow) << to_string(s);
+    EXPECT_DOUBLE_EQ(d.bearing_body_deg, p.bearing_body_deg) << to_string(s);
+    EXPECT_LE(d.speed_factor, AvoidanceParams{}.blocked_speed_factor) << to_string(s);
+    EXPECT_GT(d.speed_factor, 0.0) << to_string(s);
+  }
+}
+
 TEST(SweptHull, OffByDefaultAndRejectsBadGeometry) {
   EXPECT_FALSE(AvoidanceParams{}.sweep_enabled);
   AvoidanceParams p = swept();
