@@ -200,6 +200,16 @@ void read_engines(MapReader& root, MissionConfig& mission) {
       r->finish();
     }
     a.naive_margin_deg = m->get("naive_margin_deg", a.naive_margin_deg, {0.0, 90.0});
+    if (auto sw = m->map("sweep")) {
+      a.sweep_enabled = sw->get("enabled", a.sweep_enabled);
+      a.hull_length_m = sw->get("hull_length_m", a.hull_length_m, kPositive);
+      a.bow_ahead_m = sw->get("bow_ahead_m", a.bow_ahead_m, kNonNegative);
+      a.pivot_ahead_m = sw->get("pivot_ahead_m", a.pivot_ahead_m, {-10.0, 10.0});
+      a.sweep_turn_radius_m = sw->get("turn_radius_m", a.sweep_turn_radius_m, kNonNegative);
+      a.sweep_clearance_m = sw->get("clearance_m", a.sweep_clearance_m, kNonNegative);
+      a.sweep_step_deg = sw->get("step_deg", a.sweep_step_deg, {0.5, 45.0});
+      sw->finish();
+    }
     check(*m, a.validate());
     m->finish();
   }
@@ -724,6 +734,15 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "threshold", a.risk_threshold);
   out << YAML::EndMap;
   kv(out, "naive_margin_deg", a.naive_margin_deg);
+  begin(out, "sweep", true);
+  kv(out, "enabled", a.sweep_enabled);
+  kv(out, "hull_length_m", a.hull_length_m);
+  kv(out, "bow_ahead_m", a.bow_ahead_m);
+  kv(out, "pivot_ahead_m", a.pivot_ahead_m);
+  kv(out, "turn_radius_m", a.sweep_turn_radius_m);
+  kv(out, "clearance_m", a.sweep_clearance_m);
+  kv(out, "step_deg", a.sweep_step_deg);
+  out << YAML::EndMap;
   out << YAML::EndMap;
   const auto& c = m.clustering;
   begin(out, "clustering");

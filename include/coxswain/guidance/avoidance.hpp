@@ -89,6 +89,26 @@ struct AvoidanceParams {
   // kSelectionNaive2022 only: the fixed margin added to both ends of an obstacle.
   double naive_margin_deg = 10.0;
 
+  // Swept hull (every strategy but the naive one): the bins keep a corridor ahead of the bow,
+  // but a boat driven by a stern thruster turns about a pivot point near or ahead of the bow and
+  // skids outward, so its sides and stern swing out of the turn, into a buoy the bow has just
+  // cleared. Each candidate turn is sailed along an arc (the pivot on a circle of
+  // sweep_turn_radius_m, the heading turning with it, sweep_step_deg at a time) and the turn is
+  // refused on that side once the hull rectangle (bow_ahead_m ahead of the body origin to
+  // hull_length_m behind the bow tip, half_beam_m wide) comes within sweep_clearance_m of an
+  // obstacle -- or, for an obstacle already that close, any nearer than it is now. The bins'
+  // range is then measured along that path (the arc, then straight on), not along a ray from
+  // the bow, over the obstacles within detection_range_m plus the longest arc. Off by default: the
+  // documents' algorithms as they are; the obstacle course turns it on
+  // (config/missions/obstacle_course.yaml).
+  bool sweep_enabled = false;
+  double hull_length_m = 1.2;        // bow tip to stern
+  double bow_ahead_m = 0.1;          // bow tip ahead of the body origin (the sensors)
+  double pivot_ahead_m = 0.4;        // turning pivot ahead of the body origin
+  double sweep_turn_radius_m = 2.6;  // radius of the pivot's path in a hard turn
+  double sweep_clearance_m = 0.15;   // room kept between the swept hull and obstacles
+  double sweep_step_deg = 3.0;       // heading step along the predicted arc
+
   /// Empty when valid, else the first problem found.
   [[nodiscard]] std::string validate() const;
   /// Distance below which the risk-bin risk exceeds the threshold.
@@ -101,7 +121,11 @@ struct AvoidanceDecision {
   double speed_factor = 1.0;      // 1 full ahead, 0 stop, negative astern
   AvoidanceStatus status = AvoidanceStatus::kClear;
   Side side = Side::kNone;
-  std::uint8_t shrink_steps = 0;              // how often the range was shrunk this tick
+  std::uint8_t shrink_steps = 0;  // how often the range was shrunk this tick
+  // Largest turn the swept hull allows on each side (degrees, >= 0; the fan's extent when
+  // nothing limits it).
+  double sweep_port_deg = 180.0;
+  double sweep_starboard_deg = 180.0;
   double effective_range_m = 0.0;             // the range the decision was made with
   double nearest_m = AngleBins::kNoObstacle;  // closest obstacle over the fan (hull-widened)
   std::uint32_t bin_count = 0;
@@ -134,6 +158,17 @@ class Avoidance {
 
   // Fills cost_ for range limit `limit_m`; returns true when at least one bin is allowed.
   bool compute_costs(double limit_m);
+  // Sets sweep_port_deg_ / sweep_starboard_deg_ from the obstacles (swept-hull check).
+  void compute_sweep(const perception::ObstacleList& obstacles);
+  [[nodiscard]] double sweep_turn_limit(const perception::ObstacleList& obstacles,
+                                        double side_sign);
+  // Fills range_m_: per bin, how far the boat sails along its predicted path (the arc to the
+  // bin's heading, then straight) before an obstacle comes within half_beam_m + clearance_m of
+  // the centre line; the bins' straight-ray range when the sweep is off.
+  void compute_path_ranges(const perception::ObstacleList& obstacles);
+  [[nodiscard]] bool swept_out(double center_deg) const {
+    return center_deg > sweep_starboard_deg_ || -center_deg > sweep_port_deg_;
+  }
   void fill_danger(AvoidanceDecision& d, double limit_m) const;
   [[nodiscard]] std::size_t best_in(std::size_t first, std::size_t last, double goal_deg) const;
   [[nodiscard]] double free_room(Side side, double window_deg, double limit_m) const;
@@ -146,6 +181,19 @@ class Avoidance {
   std::array<double, AngleBins::kMaxBins> cost_{};  // +inf = not allowed
   double goal_deg_ = 0.0;                           // goal for the current decision
   double cost_per_deg_ = 1.0;                       // converts hysteresis_deg into cost units
+  double sweep_port_deg_ = 180.0;                   // largest turn the swept hull allows
+  double sweep_starboard_deg_ = 180.0;
+  // Per bin: the range the strategies use, and the pose at the end of the turn onto the bin's
+  // heading (origin forward/starboard, cos/sin of the turn, arc length), set up once.
+  std::array<double, AngleBins::kMaxBins> range_m_{};
+  std::array<double, AngleBins::kMaxBins> arc_end_f_m_{};
+  std::array<double, AngleBins::kMaxBins> arc_end_s_m_{};
+  std::array<double, AngleBins::kMaxBins> arc_cos_{};
+  std::array<double, AngleBins::kMaxBins> arc_sin_{};
+  std::array<double, AngleBins::kMaxBins> arc_len_m_{};
+  // Scratch for the swept-hull check: the segments within reach and the room each must keep.
+  std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> sweep_index_{};
+  std::array<double, perception::ObstacleList::kMaxSegments> sweep_room_m_{};
   Side prev_side_ = Side::kNone;
   core::TimeNs side_since_ns_ = core::kNeverNs;  // when prev_side_ was last switched to
   core::TimeNs side_used_ns_ = core::kNeverNs;   // last tick prev_side_ was steered on

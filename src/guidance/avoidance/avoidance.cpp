@@ -19,6 +19,63 @@ double bearing_of(const core::BodyPoint& p) {
   return core::rad_to_deg(std::atan2(p.starboard_m, p.forward_m));
 }
 
+// The hull as a rectangle in its own body frame: forward in [aft_m, fore_m], |starboard| <= half.
+struct HullBox {
+  double aft_m = 0.0;
+  double fore_m = 0.0;
+  double half_m = 0.0;
+};
+
+double point_box_distance(double f, double s, const HullBox& b) {
+  const double df = std::max({b.aft_m - f, 0.0, f - b.fore_m});
+  const double ds = std::max(std::abs(s) - b.half_m, 0.0);
+  return std::hypot(df, ds);
+}
+
+double point_segment_distance(double pf, double ps, double af, double as, double bf, double bs) {
+  const double df = bf - af;
+  const double ds = bs - as;
+  const double dd = df * df + ds * ds;
+  const double t = dd < 1e-18 ? 0.0 : std::clamp(((pf - af) * df + (ps - as) * ds) / dd, 0.0, 1.0);
+  return std::hypot(pf - (af + t * df), ps - (as + t * ds));
+}
+
+// True when the segment a-b crosses the box (Liang-Barsky clipping).
+bool segment_crosses_box(double af, double as, double bf, double bs, const HullBox& b) {
+  double t0 = 0.0;
+  double t1 = 1.0;
+  const double df = bf - af;
+  const double ds = bs - as;
+  const double p[4] = {-df, df, -ds, ds};
+  const double q[4] = {af - b.aft_m, b.fore_m - af, as + b.half_m, b.half_m - as};
+  for (int i = 0; i < 4; ++i) {
+    if (std::abs(p[i]) < 1e-15) {
+      if (q[i] < 0.0) return false;
+      continue;
+    }
+    const double r = q[i] / p[i];
+    if (p[i] < 0.0) {
+      t0 = std::max(t0, r);
+    } else {
+      t1 = std::min(t1, r);
+    }
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// Distance between a segment and the box; 0 when they touch or overlap.
+double segment_box_distance(double af, double as, double bf, double bs, const HullBox& b) {
+  if (segment_crosses_box(af, as, bf, bs, b)) return 0.0;
+  double d = std::min(point_box_distance(af, as, b), point_box_distance(bf, bs, b));
+  for (const double cf : {b.aft_m, b.fore_m}) {
+    for (const double cs : {-b.half_m, b.half_m}) {
+      d = std::min(d, point_segment_distance(cf, cs, af, as, bf, bs));
+    }
+  }
+  return d;
+}
+
 }  // namespace
 
 const char* to_string(Strategy s) {
@@ -92,6 +149,16 @@ std::string AvoidanceParams::validate() const {
   }
   if (!(risk_range_m() > 0.0)) return "risk: threshold above the risk at distance 0";
   if (!non_negative(naive_margin_deg)) return "naive_margin_deg must be >= 0";
+  if (!positive(hull_length_m) || !non_negative(bow_ahead_m) || bow_ahead_m > hull_length_m) {
+    return "sweep: hull_length_m > 0 and 0 <= bow_ahead_m <= hull_length_m";
+  }
+  if (!std::isfinite(pivot_ahead_m) || !non_negative(sweep_turn_radius_m) ||
+      !non_negative(sweep_clearance_m)) {
+    return "sweep: pivot_ahead_m finite, turn radius and clearance >= 0";
+  }
+  if (!(sweep_step_deg >= 0.5 && sweep_step_deg <= 45.0)) {
+    return "sweep: sweep_step_deg must be in [0.5, 45]";
+  }
   return {};
 }
 
@@ -112,6 +179,20 @@ std::optional<Avoidance> Avoidance::create(const AvoidanceParams& params, std::s
 Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
   (void)bins_.configure(params.fan);  // validated by create()
   cost_per_deg_ = params.strategy == Strategy::kScore ? params.score_goal_weight / 180.0 : 1.0;
+  // The pose at the end of each bin's turn: the pivot (pivot_ahead_m ahead of the origin) on a
+  // circle of the turn radius, the origin pivot_ahead_m behind it along the new heading.
+  const double p = params.pivot_ahead_m;
+  const double radius = params.sweep_turn_radius_m;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    const double c = bins_.center_deg(j);
+    const double a = core::deg_to_rad(std::min(std::abs(c), 180.0));
+    const double sign = c < 0.0 ? -1.0 : 1.0;
+    arc_cos_[j] = std::cos(a);
+    arc_sin_[j] = sign * std::sin(a);
+    arc_end_f_m_[j] = p + radius * std::sin(a) - p * arc_cos_[j];
+    arc_end_s_m_[j] = sign * radius * (1.0 - arc_cos_[j]) - p * arc_sin_[j];
+    arc_len_m_[j] = radius * a;
+  }
 }
 
 void Avoidance::reset() {
@@ -127,10 +208,12 @@ bool Avoidance::compute_costs(double limit_m) {
   const double block_m = std::min(params_.score_block_range_m, limit_m);
   for (std::size_t j = 0; j < n; ++j) {
     const double c = bins_.center_deg(j);
-    const double d = bins_.range_m(j);
+    const double d = range_m_[j];
     const double turn = std::abs(core::angle_diff_deg(c, goal_deg_));
     double cost = kInf;
-    if (params_.strategy == Strategy::kScore) {
+    if (swept_out(c)) {
+      // The hull would swing into an obstacle on the way: refused at every range.
+    } else if (params_.strategy == Strategy::kScore) {
       if (!(d < block_m)) {
         cost = params_.score_goal_weight * turn / 180.0;
         if (d < limit_m) {
@@ -175,17 +258,23 @@ double Avoidance::free_room(Side side, double window_deg, double limit_m) const 
   for (std::size_t j = 0; j < bins_.size(); ++j) {
     const double off = sign * core::angle_diff_deg(bins_.center_deg(j), goal_deg_);
     if (off > 0.0 && off <= window_deg) {
-      room += std::min(bins_.range_m(j), params_.detection_range_m) / limit_m;
+      room += std::min(range_m_[j], params_.detection_range_m) / limit_m;
     }
   }
   return room;
 }
 
 std::size_t Avoidance::most_open_bin(double goal_deg) const {
-  std::size_t best = 0;
-  for (std::size_t j = 1; j < bins_.size(); ++j) {
-    const double rj = bins_.range_m(j);
-    const double rb = bins_.range_m(best);
+  // Among the bins the swept hull allows (a turn of under half a bin always is).
+  std::size_t best = bins_.size();
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    if (swept_out(bins_.center_deg(j))) continue;
+    if (best == bins_.size()) {
+      best = j;
+      continue;
+    }
+    const double rj = range_m_[j];
+    const double rb = range_m_[best];
     if (rj > rb) {
       best = j;
     } else if (rj == rb) {
@@ -195,7 +284,7 @@ std::size_t Avoidance::most_open_bin(double goal_deg) const {
       if (tj <= tb + kTieEps) best = j;
     }
   }
-  return best;
+  return best < bins_.size() ? best : bins_.index_of(0.0);
 }
 
 double Avoidance::speed_for(double nearest_m) const {
@@ -208,7 +297,7 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
   const std::size_t n = bins_.size();
   out.danger.fill(0.0F);
   for (std::size_t j = 0; j < n; ++j) {
-    const double d = bins_.range_m(j);
+    const double d = range_m_[j];
     double danger = 0.0;
     switch (params_.strategy) {
       case Strategy::kRiskBin: {
@@ -235,8 +324,142 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
         danger = d < limit_m ? 1.0 : (d < params_.detection_range_m ? 0.5 : 0.0);
         break;
     }
+    if (swept_out(bins_.center_deg(j))) danger = 1.0;
     out.danger[j] = static_cast<float>(danger);
   }
+}
+
+double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, double side_sign) {
+  const double extent = side_sign > 0.0 ? params_.fan.max_deg : -params_.fan.min_deg;
+  if (extent <= 0.0) return 0.0;
+  const double max_turn_deg = std::min(extent, 180.0);
+  const HullBox box{params_.bow_ahead_m - params_.hull_length_m, params_.bow_ahead_m,
+                    params_.half_beam_m};
+  const double p = params_.pivot_ahead_m;
+  const double radius = params_.sweep_turn_radius_m;
+  const double clearance = params_.sweep_clearance_m;
+  // Farthest any hull point gets from the pivot's start on an arc of up to 180 deg.
+  const double hull_reach =
+      std::hypot(std::max(std::abs(box.aft_m - p), std::abs(box.fore_m - p)), box.half_m);
+  const double reach = 2.0 * radius + hull_reach + clearance;
+  // Segments within reach, each with the room it must keep: the clearance, or what it has now
+  // when it is already closer (so the boat may still turn away from it).
+  std::size_t n = 0;
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const auto& seg = obstacles.segments[k];
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double bf = seg.end.forward_m;
+    const double bs = seg.end.starboard_m;
+    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
+      continue;
+    }
+    if (point_segment_distance(p, 0.0, af, as, bf, bs) > reach) continue;
+    const double now_m = segment_box_distance(af, as, bf, bs, box);
+    sweep_index_[n] = static_cast<std::uint16_t>(k);
+    sweep_room_m_[n] = now_m >= clearance ? clearance : std::max(0.0, now_m - 1e-3);
+    ++n;
+  }
+  if (n == 0) return max_turn_deg;
+  const double step = params_.sweep_step_deg;
+  for (double a_deg = step; a_deg <= max_turn_deg + 1e-9; a_deg += step) {
+    const double a = core::deg_to_rad(a_deg);
+    const double c = std::cos(a);
+    const double sn = side_sign * std::sin(a);
+    // The pivot on its circle, then the body origin p behind it along the new heading.
+    const double of = p + radius * std::sin(a) - p * c;
+    const double os = side_sign * radius * (1.0 - c) - p * sn;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& seg = obstacles.segments[sweep_index_[i]];
+      const auto to_future = [&](const core::BodyPoint& q, double& f, double& s_m) {
+        const double df = q.forward_m - of;
+        const double ds = q.starboard_m - os;
+        f = df * c + ds * sn;
+        s_m = -df * sn + ds * c;
+      };
+      double af = 0.0;
+      double as = 0.0;
+      double bf = 0.0;
+      double bs = 0.0;
+      to_future(seg.begin, af, as);
+      to_future(seg.end, bf, bs);
+      if (segment_box_distance(af, as, bf, bs, box) < sweep_room_m_[i]) return a_deg - step;
+    }
+  }
+  return max_turn_deg;
+}
+
+void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
+  const std::size_t n_bins = bins_.size();
+  if (!params_.sweep_enabled) {
+    for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = bins_.range_m(j);
+    return;
+  }
+  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = AngleBins::kNoObstacle;
+  const double w = params_.half_beam_m + params_.clearance_m;
+  const double max_arc_m =
+      params_.sweep_turn_radius_m * core::kPi + std::abs(params_.pivot_ahead_m);
+  const double reach = params_.detection_range_m + max_arc_m;
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const auto& seg = obstacles.segments[k];
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double bf = seg.end.forward_m;
+    const double bs = seg.end.starboard_m;
+    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
+      continue;
+    }
+    if (point_segment_distance(0.0, 0.0, af, as, bf, bs) > reach) continue;
+    for (std::size_t j = 0; j < n_bins; ++j) {
+      // The segment in the frame of the boat at the end of the turn onto bin j.
+      const double c = arc_cos_[j];
+      const double sn = arc_sin_[j];
+      const double pf = af - arc_end_f_m_[j];
+      const double ps = as - arc_end_s_m_[j];
+      const double qf = bf - arc_end_f_m_[j];
+      const double qs = bs - arc_end_s_m_[j];
+      const double f0 = pf * c + ps * sn;
+      const double s0 = -pf * sn + ps * c;
+      const double f1 = qf * c + qs * sn;
+      const double s1 = -qf * sn + qs * c;
+      // The part of it inside the corridor ahead: |s| <= w and f >= 0.
+      double t_lo = 0.0;
+      double t_hi = 1.0;
+      const auto keep = [&](double v0, double v1) {  // keeps v(t) = v0 + (v1 - v0) t >= 0
+        const double dv = v1 - v0;
+        if (std::abs(dv) < 1e-15) {
+          if (v0 < 0.0) t_lo = 2.0;
+          return;
+        }
+        const double root = -v0 / dv;
+        if (dv > 0.0) {
+          t_lo = std::max(t_lo, root);
+        } else {
+          t_hi = std::min(t_hi, root);
+        }
+      };
+      keep(w + s0, w + s1);
+      keep(w - s0, w - s1);
+      keep(f0, f1);
+      if (t_lo > t_hi) continue;
+      const double f_near = std::min(f0 + (f1 - f0) * t_lo, f0 + (f1 - f0) * t_hi);
+      range_m_[j] = std::min(range_m_[j], arc_len_m_[j] + std::max(0.0, f_near));
+    }
+  }
+}
+
+void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
+  sweep_port_deg_ = 180.0;
+  sweep_starboard_deg_ = 180.0;
+  if (!params_.sweep_enabled) return;
+  // A turn of less than half a bin counts as straight on: never refused.
+  const double half_bin = 0.5 * params_.fan.bin_width_deg;
+  sweep_port_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, -1.0));
+  sweep_starboard_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, 1.0));
 }
 
 AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
@@ -255,18 +478,41 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   const double hull_m = params_.half_beam_m + params_.clearance_m;
   bins_.fill(obstacles, hull_m, params_.detection_range_m);
   out.nearest_m = bins_.min_range_m();
+  compute_sweep(obstacles);
+  compute_path_ranges(obstacles);
+  out.sweep_port_deg = sweep_port_deg_;
+  out.sweep_starboard_deg = sweep_starboard_deg_;
 
   // All blocked: shrink the range stepwise so only near obstacles count.
-  double limit = params_.detection_range_m;
-  if (params_.strategy == Strategy::kRiskBin) limit = std::min(limit, params_.risk_range_m());
+  const double full_limit = params_.strategy == Strategy::kRiskBin
+                                ? std::min(params_.detection_range_m, params_.risk_range_m())
+                                : params_.detection_range_m;
+  double limit = full_limit;
   std::uint8_t steps = 0;
-  bool found = compute_costs(limit);
-  while (!found) {
-    const double next = limit * params_.shrink_factor;
-    if (next < params_.min_detection_range_m) break;
-    limit = next;
-    ++steps;
-    found = compute_costs(limit);
+  const auto search = [&] {
+    limit = full_limit;
+    steps = 0;
+    bool any = compute_costs(limit);
+    while (!any) {
+      const double next = limit * params_.shrink_factor;
+      if (next < params_.min_detection_range_m) break;
+      limit = next;
+      ++steps;
+      any = compute_costs(limit);
+    }
+    return any;
+  };
+  bool found = search();
+  if (!found && params_.sweep_enabled) {
+    // The predicted arcs leave no way out (a boat at rest turns tighter than the arc, and a
+    // stop would hold it there for good): fall back to the plain rays from the bow, slowly.
+    sweep_port_deg_ = 180.0;
+    sweep_starboard_deg_ = 180.0;
+    out.sweep_port_deg = sweep_port_deg_;
+    out.sweep_starboard_deg = sweep_starboard_deg_;
+    for (std::size_t j = 0; j < n; ++j) range_m_[j] = bins_.range_m(j);
+    found = search();
+    if (found) steps = std::max<std::uint8_t>(steps, 1);
   }
   out.shrink_steps = steps;
   out.effective_range_m = limit;
@@ -309,9 +555,9 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   if (cost_[goal_bin] < kInf &&
       (cost_[goal_bin] <= best_cost || tied(cost_[goal_bin], best_cost))) {
     out.bearing_body_deg = goal_in_fan ? goal_deg_ : bins_.center_deg(goal_bin);
-    out.status = steps > 0                         ? AvoidanceStatus::kBlockedSlow
-                 : bins_.range_m(goal_bin) < limit ? AvoidanceStatus::kAvoiding
-                                                   : AvoidanceStatus::kClear;
+    out.status = steps > 0                    ? AvoidanceStatus::kBlockedSlow
+                 : range_m_[goal_bin] < limit ? AvoidanceStatus::kAvoiding
+                                              : AvoidanceStatus::kClear;
     out.side = Side::kNone;
     return out;
   }

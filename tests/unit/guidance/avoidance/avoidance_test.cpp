@@ -312,11 +312,107 @@ TEST(Avoidance, ForgetsTheSideAfterBeingClear) {
   EXPECT_EQ(a.decide(list_of({buoy(3.0, -2.0)}), 0.0, 100 * kTick).side, Side::kStarboard);
 }
 
+// ---- Swept hull: the stern swings out of a turn (sensors at the bow, thruster at the stern). ----
+
+AvoidanceParams swept() {
+  AvoidanceParams p;
+  p.sweep_enabled = true;
+  return p;
+}
+
+TEST(SweptHull, BuoyAlongsideTheStarboardSideRefusesAHardTurnToPort) {
+  // A buoy's face 0.4 m off the starboard side, aft of the bow; the goal 60 deg to port.
+  const auto alongside = list_of({seg(-0.35, 0.8, -0.65, 0.8)});
+  for (const Strategy s : kOurs) {
+    Avoidance plain = make(s);
+    const auto d0 = plain.decide(alongside, -60.0, 0);
+    EXPECT_NEAR(d0.bearing_body_deg, -60.0, 1e-9) << to_string(s);  // the bow ray sees nothing
+    Avoidance a = make(s, swept());
+    const auto d = a.decide(alongside, -60.0, 0);
+    EXPECT_LT(d.sweep_port_deg, 60.0) << to_string(s);
+    EXPECT_GE(d.sweep_starboard_deg, 89.5) << to_string(s);  // the stern swings away from it
+    EXPECT_GE(d.bearing_body_deg, -d.sweep_port_deg - 0.5) << to_string(s);
+    EXPECT_LT(d.bearing_body_deg, -1.0) << to_string(s);  // still turns toward the goal
+    EXPECT_FLOAT_EQ(d.danger[a.bins().index_of(-60.0)], 1.0F) << to_string(s);
+  }
+  // The same buoy on the port quarter mirrors it.
+  Avoidance m = make(Strategy::kSelection, swept());
+  const auto e = m.decide(list_of({seg(-0.35, -0.8, -0.65, -0.8)}), 60.0, 0);
+  EXPECT_LT(e.sweep_starboard_deg, 60.0);
+  EXPECT_GE(e.sweep_port_deg, 89.5);
+  EXPECT_LE(e.bearing_body_deg, e.sweep_starboard_deg + 0.5);
+}
+
+TEST(SweptHull, ABuoyAlreadyInsideTheClearanceDoesNotFreezeTheBoat) {
+  // 0.1 m off the starboard side amidships: turning away (port) is refused at once, but the
+  // boat may still go straight on or turn starboard, where the hull moves away from it.
+  const auto close = list_of({seg(-0.3, 0.5, -0.6, 0.5)});
+  Avoidance a = make(Strategy::kSelection, swept());
+  const auto d = a.decide(close, 30.0, 0);
+  EXPECT_LE(d.sweep_port_deg, 0.5 + 1e-9);
+  EXPECT_GT(d.sweep_starboard_deg, 30.0);
+  EXPECT_NEAR(d.bearing_body_deg, 30.0, 1e-9);
+  EXPECT_EQ(d.status, AvoidanceStatus::kClear);
+  const auto ahead = a.decide(close, 0.0, kTick);
+  EXPECT_NEAR(ahead.bearing_body_deg, 0.0, 1e-9);
+}
+
+TEST(SweptHull, TheArcToAHeadingIsCheckedNotJustTheRayFromTheBow) {
+  // A buoy 2.5 m out at 35 deg; the goal at 70 deg. A ray from the bow at 70 deg passes it
+  // 1.4 m clear, but the boat cannot turn on the spot: on its 2.6 m arc it sails into the buoy.
+  const auto l = list_of({buoy(2.5, 35.0, 0.2)});
+  Avoidance plain = make(Strategy::kSelection);
+  EXPECT_NEAR(plain.decide(l, 70.0, 0).bearing_body_deg, 70.0, 1e-9);
+  Avoidance a = make(Strategy::kSelection, swept());
+  const auto d = a.decide(l, 70.0, 0);
+  EXPECT_EQ(d.status, AvoidanceStatus::kAvoiding);
+  EXPECT_LT(d.bearing_body_deg, 35.0);  // passes inside, to port of the buoy
+}
+
+TEST(SweptHull, NoArcLeftFallsBackToTheRaysInsteadOfStoppingForGood) {
+  // A wall 1.6 m ahead ending 1 m to starboard, a buoy abeam to starboard: no arc of the turn
+  // radius gets out, but a boat at rest can turn onto a gap the bow rays see (about 60 deg).
+  const auto l = list_of({seg(1.6, -6.0, 1.6, 1.0), seg(-0.15, 1.8, -0.45, 1.8)});
+  for (const Strategy s : {Strategy::kSelection, Strategy::kScore}) {
+    Avoidance plain = make(s);
+    const auto p = plain.decide(l, 80.0, 0);
+    ASSERT_NE(p.status, AvoidanceStatus::kBlockedStop) << to_string(s);
+    Avoidance a = make(s, swept());
+    const auto d = a.decide(l, 80.0, 0);
+    EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow) << to_string(s);
+    EXPECT_DOUBLE_EQ(d.bearing_body_deg, p.bearing_body_deg) << to_string(s);
+    EXPECT_LE(d.speed_factor, AvoidanceParams{}.blocked_speed_factor) << to_string(s);
+    EXPECT_GT(d.speed_factor, 0.0) << to_string(s);
+  }
+}
+
+TEST(SweptHull, OffByDefaultAndRejectsBadGeometry) {
+  EXPECT_FALSE(AvoidanceParams{}.sweep_enabled);
+  AvoidanceParams p = swept();
+  EXPECT_EQ(p.validate(), "");
+  p.bow_ahead_m = 2.0;  // longer than the hull
+  EXPECT_NE(p.validate(), "");
+  p = swept();
+  p.sweep_step_deg = 0.0;
+  EXPECT_NE(p.validate(), "");
+  p = swept();
+  p.sweep_turn_radius_m = -1.0;
+  EXPECT_NE(p.validate(), "");
+  // No obstacles: nothing is refused.
+  Avoidance a = make(Strategy::kScore, swept());
+  const auto d = a.decide(ObstacleList{}, -80.0, 0);
+  EXPECT_NEAR(d.bearing_body_deg, -80.0, 1e-9);
+  EXPECT_GE(d.sweep_port_deg, 89.5);
+  EXPECT_GE(d.sweep_starboard_deg, 89.5);
+}
+
 TEST(Avoidance, Deterministic) {
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
                            Strategy::kSelectionNaive2022}) {
-    Avoidance a = make(s);
-    Avoidance b = make(s);
+    AvoidanceParams p;
+    p.sweep_enabled = s != Strategy::kRiskBin;  // with and without the swept hull
+    Avoidance a = make(s, p);
+    Avoidance b = make(s, p);
     for (int k = 0; k < 40; ++k) {
       const double t = 0.37 * k;
       const auto l = list_of({buoy(2.0 + std::fmod(t, 5.0), 30.0 * std::sin(t)),
