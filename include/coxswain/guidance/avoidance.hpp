@@ -48,7 +48,9 @@ enum class Side : std::int8_t { kPort = -1, kNone = 0, kStarboard = 1 };
 /// Tunables. Angles in degrees (body frame), distances in metres, times in seconds. Defaults are
 /// for a ~1 m beam boat at a few knots in a KABOAT pool.
 struct AvoidanceParams {
-  Strategy strategy = Strategy::kSelection;
+  // Score won the simulator batch (README, Simulator): it ties selection on the obstacle course
+  // and beats risk_bin there and on the 2026 course 1.
+  Strategy strategy = Strategy::kScore;
   AngleFan fan{};                  // -90..+90 deg in 1 deg bins
   double detection_range_m = 8.0;  // obstacles farther than this are ignored
   double half_beam_m = 0.45;       // half the hull width

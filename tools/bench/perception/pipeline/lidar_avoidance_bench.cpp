@@ -65,7 +65,8 @@ LidarClusterParams peer_params() {
   return p;
 }
 
-// state.range(0): -1 = clustering alone, else the Strategy. Goal dead ahead, so every obstacle
+// state.range(0): -1 = clustering alone, else the Strategy (+ 10: with the swept hull, as the
+// obstacle course runs it). Goal dead ahead, so every obstacle
 // near the bow is in the way; `now` is the scan's own stamp so the hold time sees real spacing.
 void BM_PeerLidarTick(benchmark::State& state) {
   const auto& scans = peer_scans();
@@ -75,7 +76,10 @@ void BM_PeerLidarTick(benchmark::State& state) {
   }
   const bool with_avoidance = state.range(0) >= 0;
   AvoidanceParams ap;
-  if (with_avoidance) ap.strategy = static_cast<Strategy>(state.range(0));
+  if (with_avoidance) {
+    ap.strategy = static_cast<Strategy>(state.range(0) % 10);
+    ap.sweep_enabled = state.range(0) >= 10;
+  }
   auto avoidance = std::make_unique<Avoidance>(*Avoidance::create(ap));
   LidarClusterer clusterer(peer_params());
   auto out = std::make_unique<Output>();
@@ -121,7 +125,8 @@ void BM_PeerLidarTick(benchmark::State& state) {
   }
   state.counters["segments_per_scan"] =
       static_cast<double>(segments) / static_cast<double>(state.iterations());
-  state.SetLabel(with_avoidance ? std::string("clustering + ") + to_string(ap.strategy)
+  state.SetLabel(with_avoidance ? std::string("clustering + ") + to_string(ap.strategy) +
+                                      (ap.sweep_enabled ? " + swept hull" : "")
                                 : std::string("clustering alone"));
   state.SetItemsProcessed(state.iterations());
 }
@@ -131,6 +136,8 @@ BENCHMARK(BM_PeerLidarTick)
     ->Arg(static_cast<int>(Strategy::kSelection))
     ->Arg(static_cast<int>(Strategy::kScore))
     ->Arg(static_cast<int>(Strategy::kRiskBin))
+    ->Arg(10 + static_cast<int>(Strategy::kScore))
+    ->Arg(10 + static_cast<int>(Strategy::kSelection))
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
