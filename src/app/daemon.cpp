@@ -190,7 +190,16 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   auto live_params = std::make_unique<mission::TunableParameters>();
   std::string live_error;
   bool live_started = live_server->start(live_error);
-  if (!live_started && live_options.http_enabled) {
+  if (!live_started && live_options.http_enabled && !live_options.socket_path.empty() &&
+      live_error.starts_with("control socket")) {
+    // An unusable socket path (too long for a Unix socket, a read-only directory) must not cost
+    // the live view and status page, which take start, hold and the target as well.
+    spdlog::error("{}: no control socket; live view and status page only", live_error);
+    live_options.socket_path.clear();
+    live_server = std::make_unique<live::LiveServer>(live_options, *store, clock);
+    live_started = live_server->start(live_error);
+  }
+  if (!live_started && live_options.http_enabled && !live_options.socket_path.empty()) {
     // A busy port (another daemon, a test beside us) must not cost the control socket.
     spdlog::warn("live view disabled ({}); control socket only", live_error);
     live_options.http_enabled = false;
@@ -198,7 +207,9 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
     live_started = live_server->start(live_error);
   }
   if (live_started) {
-    spdlog::info("control socket {}", live_options.socket_path.string());
+    if (!live_options.socket_path.empty()) {
+      spdlog::info("control socket {}", live_options.socket_path.string());
+    }
     if (live_server->http_port() != 0) {
       spdlog::info("status page and live view on http://{}:{}/", live_options.http_address,
                    live_server->http_port());
@@ -206,7 +217,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
     }
     live_server->publish_parameters(core->parameters(), clock.now_ns());
   } else {
-    spdlog::error("control socket could not start ({}): no control interface", live_error);
+    spdlog::error("control interface could not start ({}): none", live_error);
     live_server.reset();
     if (options.target_colour != msg::Colour::kUnknown) {
       msg::OperatorInput target;  // no control thread: this thread is the slot's only writer

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 
 #include <array>
 #include <atomic>
@@ -15,6 +16,7 @@
 #include <deque>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -634,6 +636,12 @@ bool LiveServer::start(std::string& error) {
     std::error_code fec;
     std::filesystem::create_directories(m.options.socket_path.parent_path(), fec);
     std::filesystem::remove(m.options.socket_path, fec);  // a stale socket of an earlier run
+    // The endpoint constructor throws on a path longer than sun_path: check first.
+    if (m.options.socket_path.string().size() >= sizeof(sockaddr_un::sun_path)) {
+      error = "control socket " + m.options.socket_path.string() + ": path longer than " +
+              std::to_string(sizeof(sockaddr_un::sun_path) - 1) + " bytes";
+      return false;
+    }
     const local_stream::endpoint ep(m.options.socket_path.string());
     if (m.unix_acceptor.open(ep.protocol(), ec) || m.unix_acceptor.bind(ep, ec) ||
         m.unix_acceptor.listen(asio::socket_base::max_listen_connections, ec)) {

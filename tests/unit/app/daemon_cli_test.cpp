@@ -110,9 +110,10 @@ class CoxswainCli : public ::testing::Test {
 
   // Starts `coxswain --devices <absent> --log-dir runs run` (stderr to dir_/err) with an optional
   // file-size limit (bytes; 0 = none) and SIGXFSZ at its default action, as a shell leaves it.
-  pid_t spawn_daemon(std::uint64_t file_size_limit = 0) {
-    const std::string devices = absent_devices().string();
-    const std::string runs = (dir_ / "runs").string();
+  pid_t spawn_daemon(std::uint64_t file_size_limit = 0, const fs::path& runs_dir = {},
+                     const fs::path& devices_file = {}) {
+    const std::string devices = (devices_file.empty() ? absent_devices() : devices_file).string();
+    const std::string runs = (runs_dir.empty() ? dir_ / "runs" : runs_dir).string();
     const std::string err = (dir_ / "err").string();
     const pid_t pid = ::fork();
     if (pid == 0) {
@@ -131,11 +132,13 @@ class CoxswainCli : public ::testing::Test {
   }
 
   // Waits (up to `timeout`) until the run's coxswain.log holds `text`.
-  bool wait_for_log(const std::string& text, std::chrono::seconds timeout) {
+  bool wait_for_log(const std::string& text, std::chrono::seconds timeout,
+                    const fs::path& runs_dir = {}) {
+    const fs::path runs = runs_dir.empty() ? dir_ / "runs" : runs_dir;
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < deadline) {
-      if (fs::is_directory(dir_ / "runs")) {
-        for (const auto& e : fs::directory_iterator(dir_ / "runs")) {
+      if (fs::is_directory(runs)) {
+        for (const auto& e : fs::directory_iterator(runs)) {
           if (slurp(e.path() / "coxswain.log").find(text) != std::string::npos) return true;
         }
       }
@@ -310,6 +313,33 @@ TEST_F(CoxswainCli, FullDiskSailsOn) {
   EXPECT_TRUE(rec.report.header_ok);
   EXPECT_EQ(rec.report.chunk_crc_errors, 0U);
   EXPECT_TRUE(rec.counts.contains("/tick"));  // the chunks closed before the disk filled
+}
+
+// A run directory too deep for a Unix socket's path (108 bytes) costs the control socket only:
+// the live view and status page (which take start, hold and the target too) still run.
+TEST_F(CoxswainCli, SocketPathTooLongKeepsTheLiveView) {
+  fs::path runs = dir_;
+  while (runs.string().size() < 120) runs /= "a-rather-long-folder-name";
+  std::string devices = slurp(absent_devices());
+  const std::string port = "http_port: 8765";
+  ASSERT_NE(devices.find(port), std::string::npos);
+  devices.replace(devices.find(port), port.size(), "http_port: 0");
+  const pid_t pid = spawn_daemon(0, runs, write("devices-any-port.yaml", devices));
+  ASSERT_GT(pid, 0);
+  const bool fell_back = wait_for_log("no control socket; live view and status page only",
+                                      std::chrono::seconds(30), runs);
+  const bool ticking = wait_for_log("device camera: absent", std::chrono::seconds(30), runs);
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << slurp(dir_ / "err");
+  EXPECT_TRUE(fell_back) << slurp(dir_ / "err");
+  EXPECT_TRUE(ticking);
+  const fs::path run_dir = only_run(runs);
+  EXPECT_TRUE(fs::exists(run_dir / "live.port")) << slurp(run_dir / "coxswain.log");
+  EXPECT_NE(slurp(run_dir / "coxswain.log").find("status page and live view on"),
+            std::string::npos);
 }
 
 // `coxswain decode` prints one JSON object per message and a summary line; it needs no config.
