@@ -275,6 +275,7 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     check(*m, b.validate());
     c.circling_thrust_frac = m->get("circling_thrust_frac", c.circling_thrust_frac, kFrac);
     c.exit_course_deg = m->get("exit_course_deg", c.exit_course_deg, {-180.0, 180.0});
+    c.exit_align_deg = m->get("exit_align_deg", c.exit_align_deg, {1.0, 180.0});
     c.colour_timeout_s = m->get("colour_timeout_s", c.colour_timeout_s, {0.0, 3600.0});
     c.seek_thrust_frac = m->get("seek_thrust_frac", c.seek_thrust_frac, kFrac);
     c.buoy_range_window_deg = m->get("buoy_range_window_deg", c.buoy_range_window_deg, {0.0, 45.0});
@@ -801,6 +802,7 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "track_gate_m", c2.track_gate_m);
   kv(out, "track_timeout_s", c2.track_timeout_s);
   kv(out, "exit_course_deg", c2.exit_course_deg);
+  kv(out, "exit_align_deg", c2.exit_align_deg);
   kv(out, "seek_thrust_frac", c2.seek_thrust_frac);
   kv(out, "colour_timeout_s", c2.colour_timeout_s);
   out << YAML::Key << "colours" << YAML::Value << YAML::Flow << YAML::BeginSeq;

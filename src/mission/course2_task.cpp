@@ -110,7 +110,11 @@ class Course2Task final : public Task {
       }
     }
     const guidance::BuoyCirclingOutput o = circling_.update(ctx.pose.heading_deg, obs);
-    if (o.done) {
+    // Leaving across the circle can run the boat into whatever is just outside it (the buoy
+    // near a wall): circle on until the heading points the way out.
+    const double exit_true = control::true_from_course_deg(c_.exit_course_deg, ctx.course_zero_deg);
+    if (o.done &&
+        std::abs(core::angle_diff_deg(ctx.pose.heading_deg, exit_true)) <= c_.exit_align_deg) {
       phase_ = Phase::kSeekColour;
       seek_since_ns_ = ctx.now_ns;
       set_phase("seek_colour",

@@ -184,6 +184,8 @@ struct Course2Config {
   guidance::BuoyCirclingParams circling;
   double circling_thrust_frac = 0.4;
   double exit_course_deg = -90.0;  // course-frame heading held while looking for the colour
+  double exit_align_deg = 180.0;   // after the full turn, circle on until the heading is this
+                                   // near it (leave on the circle's tangent, not across it)
   double colour_timeout_s = 30.0;  // no colour by then: go to the waypoint with the LED off
   double seek_thrust_frac = 0.4;
   double buoy_range_window_deg = 3.0;  // lidar bins either side of the camera bearing

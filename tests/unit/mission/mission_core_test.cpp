@@ -439,6 +439,34 @@ TEST(MissionCourse1, BuoyNotSeenMovesOnAfterTheSearchTimeout) {
 
 // ---- course 2 -------------------------------------------------------------------------------
 
+TEST(MissionCourse2, AfterTheFullTurnCirclesOnUntilTheHeadingPointsTheWayOut) {
+  config::Configuration c = base_config(config::TaskType::kCourse2);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({30.0, 0.0}));
+  c.mission.tasks[0].time_limit_s = 600.0;
+  c.mission.course2.exit_course_deg = -90.0;
+  c.mission.course2.exit_align_deg = 45.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->heading_deg = 0.0;
+  rig->run_for(0.2);
+  ASSERT_EQ(rig->path(), "course2/circling");
+  // Counter-clockwise (buoy to port), 0.4 deg per tick.
+  auto turn = [&](double deg) {
+    for (int i = 0; i < static_cast<int>(deg / 0.4); ++i) {
+      rig->heading_deg = core::wrap_deg(rig->heading_deg - 0.4);
+      rig->camera({detection(msg::Colour::kPurple, msg::Shape::kBuoy, -90.0F)});
+      rig->tick();
+      if (rig->path() != "course2/circling") return;
+    }
+  };
+  turn(400.0);  // past the full turn, heading -40: 50 deg from the way out (-90)
+  EXPECT_EQ(rig->path(), "course2/circling") << rig->log_text();
+  EXPECT_NEAR(rig->heading_deg, -40.0, 0.5);
+  turn(30.0);  // leaves at 45 deg from it
+  EXPECT_EQ(rig->path(), "course2/seek_colour") << rig->log_text();
+  EXPECT_NEAR(rig->heading_deg, -45.0, 3.0);  // the heading filter lags the turn a little
+}
+
 TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
   config::Configuration c = base_config(config::TaskType::kCourse2);
   const core::LocalFrame f(c.mission.origin);
