@@ -20,27 +20,17 @@ namespace coxswain::mission::detail {
 namespace {
 
 /// Avoidance toward the waypoints (the gate); for course 1, then the turn to find the buoy.
-class AvoidanceTask final : public Task {
+class AvoidanceTask final : public AvoidingTask {
  public:
   AvoidanceTask(const config::TaskConfig& t, const config::MissionConfig& m,
                 const core::LocalFrame& frame, bool course1)
-      : Task(t.name),
+      : AvoidingTask(t.name, m.avoidance),
         leg_(m.waypoints, to_route(t.waypoints, frame)),
         course1_(course1),
         c1_(m.course1),
-        cruise_(m.cruise_thrust_frac) {
-    std::string error;
-    auto av = guidance::Avoidance::create(m.avoidance, &error);
-    if (!av) throw std::invalid_argument("avoidance: " + error);
-    avoidance_.emplace(std::move(*av));
-  }
+        cruise_(m.cruise_thrust_frac) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
-
-  void retune_avoidance(const guidance::AvoidanceParams& params) override {
-    // Validated by the core: create() cannot fail here. The new engine starts without a side.
-    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
-  }
 
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
@@ -116,7 +106,6 @@ class AvoidanceTask final : public Task {
   bool course1_;
   config::Course1Config c1_;
   double cruise_;
-  std::optional<guidance::Avoidance> avoidance_;
   bool search_ = false;
   core::TimeNs search_since_ns_ = 0;
   double search_heading_deg_ = 0.0;

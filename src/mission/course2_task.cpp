@@ -20,13 +20,13 @@ namespace coxswain::mission::detail {
 namespace {
 
 /// Circle the buoy once on the camera side, identify the target colour, light the LED, go on.
-class Course2Task final : public Task {
+class Course2Task final : public AvoidingTask {
  public:
   enum class Phase : std::uint8_t { kCircling, kSeekColour, kToWaypoint };
 
   Course2Task(const config::TaskConfig& t, const config::MissionConfig& m,
               const core::LocalFrame& frame)
-      : Task(t.name),
+      : AvoidingTask(t.name, m.avoidance),
         c_(m.course2),
         circling_(m.course2.circling),
         leg_(m.waypoints, to_route(t.waypoints, frame)),
@@ -35,20 +35,11 @@ class Course2Task final : public Task {
                perception::MarkerVote(m.vision_vote), perception::MarkerVote(m.vision_vote),
                perception::MarkerVote(m.vision_vote), perception::MarkerVote(m.vision_vote)} {
     check(m.course2.circling.validate());
-    std::string error;
-    auto av = guidance::Avoidance::create(m.avoidance, &error);
-    if (!av) throw std::invalid_argument("avoidance: " + error);
-    avoidance_.emplace(std::move(*av));
     colour_count_ = std::min<std::size_t>(m.course2.colours.size(), colours_.size());
     for (std::size_t i = 0; i < colour_count_; ++i) colours_[i] = m.course2.colours[i];
   }
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu; }
-
-  void retune_avoidance(const guidance::AvoidanceParams& params) override {
-    // Validated by the core: create() cannot fail here. The new engine starts without a side.
-    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
-  }
 
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
@@ -225,7 +216,6 @@ class Course2Task final : public Task {
 
   config::Course2Config c_;
   guidance::BuoyCircling circling_;
-  std::optional<guidance::Avoidance> avoidance_;
   perception::ObstacleList near_;
   RouteLeg leg_;
   std::array<perception::MarkerVote, 8> votes_;

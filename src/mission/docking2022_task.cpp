@@ -28,7 +28,7 @@ core::NavPoint along(core::NavPoint p, double heading_deg, double distance_m) {
 /// marker and vote. The target slip is entered by ray pursuit along its axis, the axis shifted
 /// sideways by the camera's fix of the marker (the GNSS error is larger than the slip's room),
 /// and the boat stops by lidar.
-class Docking2022Task final : public Task {
+class Docking2022Task final : public AvoidingTask {
  public:
   static constexpr std::size_t kMaxSlips = 8;
   // A mouth whose slip's marker is within this of the camera's sight is the target's: the gap
@@ -39,7 +39,7 @@ class Docking2022Task final : public Task {
 
   Docking2022Task(const config::TaskConfig& t, const config::MissionConfig& m,
                   const core::LocalFrame& frame)
-      : Task(t.name),
+      : AvoidingTask(t.name, m.avoidance),
         d_(m.docking),
         follower_(m.waypoints),
         approach_(m.docking.approach),
@@ -50,10 +50,6 @@ class Docking2022Task final : public Task {
     check(m.docking.approach.validate());
     const std::string vote_problem = m.vision_vote.validate();
     if (!vote_problem.empty()) throw std::invalid_argument(vote_problem);
-    std::string error;
-    auto av = guidance::Avoidance::create(m.avoidance, &error);
-    if (!av) throw std::invalid_argument("avoidance: " + error);
-    avoidance_.emplace(std::move(*av));
     slip_count_ = std::min(t.slips.size(), kMaxSlips);
     core::NavPoint centre;
     for (std::size_t i = 0; i < slip_count_; ++i) {
@@ -72,11 +68,6 @@ class Docking2022Task final : public Task {
   }
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
-
-  void retune_avoidance(const guidance::AvoidanceParams& params) override {
-    // Validated by the core: create() cannot fail here. The new engine starts without a side.
-    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
-  }
 
   ReasonText enter(const TaskContext& ctx) override {
     ReasonText r = need_position_heading(ctx);
@@ -391,7 +382,6 @@ class Docking2022Task final : public Task {
   guidance::WaypointFollower follower_;
   guidance::DockingApproach approach_;
   SlipTracker slip_tracker_;
-  std::optional<guidance::Avoidance> avoidance_;
   perception::ObstacleList near_;
   double dock_heading_deg_;
   msg::Colour config_colour_;

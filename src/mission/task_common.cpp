@@ -75,6 +75,14 @@ const msg::Detection* largest_of(const msg::CameraDetections& cam, msg::Colour c
   return best;
 }
 
+AvoidingTask::AvoidingTask(std::string_view name, const guidance::AvoidanceParams& params)
+    : Task(name) {
+  std::string error;
+  auto av = guidance::Avoidance::create(params, &error);
+  if (!av) throw std::invalid_argument("avoidance: " + error);
+  avoidance_.emplace(std::move(*av));
+}
+
 ReasonText need_position_heading(const TaskContext& ctx) {
   if (!ctx.position_valid) return reason_printf("no usable GNSS fix");
   if (!ctx.heading_valid) return reason_printf("no heading");

@@ -25,6 +25,22 @@ const msg::Detection* largest_of(const msg::CameraDetections& cam, msg::Colour c
 /// Refusal reason when position or heading is not usable; empty when both are.
 ReasonText need_position_heading(const TaskContext& ctx);
 
+/// A task that steers with an avoidance engine: builds it from the mission's parameters and
+/// rebuilds it on live retuning.
+class AvoidingTask : public Task {
+ public:
+  void retune_avoidance(const guidance::AvoidanceParams& params) override {
+    // Validated by the core: create() cannot fail here. The new engine starts without a side.
+    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
+  }
+
+ protected:
+  /// Throws std::invalid_argument when the parameters are not valid.
+  AvoidingTask(std::string_view name, const guidance::AvoidanceParams& params);
+
+  std::optional<guidance::Avoidance> avoidance_;
+};
+
 // Waypoints of a task in the navigation frame (fixed storage).
 struct Route {
   std::array<core::NavPoint, guidance::WaypointFollower::kMaxWaypoints> points{};
