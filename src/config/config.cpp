@@ -328,7 +328,10 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     d.slip_depth_m = m->get("slip_depth_m", d.slip_depth_m, {0.0, 20.0});
     d.turn_thrust_frac = m->get("turn_thrust_frac", d.turn_thrust_frac, kFrac);
     d.line_up_distance_m = m->get("line_up_distance_m", d.line_up_distance_m, {0.0, 50.0});
+    d.axis_lookahead_m = m->get("axis_lookahead_m", d.axis_lookahead_m, kPositive);
     d.marker_fix_gain = m->get("marker_fix_gain", d.marker_fix_gain, {0.0, 1.0});
+    d.marker_fix_max_range_m =
+        m->get("marker_fix_max_range_m", d.marker_fix_max_range_m, kPositive);
     d.max_marker_fix_m = m->get("max_marker_fix_m", d.max_marker_fix_m, {0.0, 10.0});
     d.slip_match_m = m->get("slip_match_m", d.slip_match_m, kPositive);
     d.commit_range_m = m->get("commit_range_m", d.commit_range_m, kPositive);
@@ -826,7 +829,9 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "slip_depth_m", d.slip_depth_m);
   kv(out, "turn_thrust_frac", d.turn_thrust_frac);
   kv(out, "line_up_distance_m", d.line_up_distance_m);
+  kv(out, "axis_lookahead_m", d.axis_lookahead_m);
   kv(out, "marker_fix_gain", d.marker_fix_gain);
+  kv(out, "marker_fix_max_range_m", d.marker_fix_max_range_m);
   kv(out, "max_marker_fix_m", d.max_marker_fix_m);
   kv(out, "slip_match_m", d.slip_match_m);
   kv(out, "commit_range_m", d.commit_range_m);

@@ -35,6 +35,11 @@ class Docking2022Task final : public AvoidingTask {
   // between two docks, 1.5 m aside, is 14 deg off even from 6 m.
   static constexpr double kMarkerOverMouthDeg = 6.0;
   static constexpr double kAxisToleranceDeg = 20.0;
+  // The approach along a slip's axis starts this far behind its decision point (any boat behind
+  // it is on the leg), and is taken when the boat is at least this much more than the line-up
+  // distance behind the decision point.
+  static constexpr double kAxisLegM = 30.0;
+  static constexpr double kAxisApproachMinM = 1.0;
   enum class Phase : std::uint8_t { kSurvey, kGoto, kFace, kEnter };
 
   Docking2022Task(const config::TaskConfig& t, const config::MissionConfig& m,
@@ -42,6 +47,11 @@ class Docking2022Task final : public AvoidingTask {
       : AvoidingTask(t.name, m.avoidance),
         d_(m.docking),
         follower_(m.waypoints),
+        axis_line_([&m] {
+          guidance::LineFollowParams line = m.waypoints.line;
+          line.lookahead_m = m.docking.axis_lookahead_m;
+          return line;
+        }()),
         approach_(m.docking.approach),
         slip_tracker_(slip_line_params(m)),
         dock_heading_deg_(t.dock_heading_deg),
@@ -107,7 +117,7 @@ class Docking2022Task final : public AvoidingTask {
         return TaskResult::kRunning;
       case Phase::kGoto:
         if (target_slip_ && *target_slip_ != slip_) return goto_target(ctx, out);
-        if (follow(ctx, decision_[slip_], out)) return TaskResult::kRunning;
+        if (approach(ctx, out)) return TaskResult::kRunning;
         phase_ = Phase::kFace;
         face_since_ns_ = core::kNeverNs;
         set_phase(slip_phase("face_slip").view(),
@@ -221,6 +231,10 @@ class Docking2022Task final : public AvoidingTask {
         core::angle_diff_deg(ctx.pose.heading_deg + bearing_body_deg, dock_heading_deg_);
     // Close in, the marker fills the frame and its centre is no longer a sharp fix.
     if (ahead_m < 1.0 || std::abs(sight_deg) > 60.0) return std::nullopt;
+    // Far off, a marker's bearing fixes little and the frame may not show every marker, so
+    // the marker can be matched to a neighbour's slip: the fix jumped by metres and swung the
+    // boat about among the buoys.
+    if (ahead_m > d_.marker_fix_max_range_m) return std::nullopt;
     const double across_m = ahead_m * std::tan(core::deg_to_rad(sight_deg));
     const double boat_side_m = (ctx.pose.position.north_m - markers_[j].north_m) * side_.north_m +
                                (ctx.pose.position.east_m - markers_[j].east_m) * side_.east_m;
@@ -240,10 +254,46 @@ class Docking2022Task final : public AvoidingTask {
     return true;
   }
 
+  /// Toward the decision point of slip `slip_`; false once there. From well behind it the boat
+  /// follows the slip's axis by line of sight, so it joins the axis at a bounded angle and
+  /// arrives on it, facing the slip: the outer slips leave about a metre between hull and pool
+  /// wall, and a boat that reaches its line-up point crossing the axis overshoots into the wall.
+  /// From beside it (moving on from a neighbour's decision point), the route via the line-up
+  /// point.
+  bool approach(const TaskContext& ctx, GuidanceRequest& out) {
+    const core::NavPoint p = corrected(ctx.antenna);
+    const core::NavPoint goal = decision_[slip_];
+    if (!approach_chosen_) {
+      approach_chosen_ = true;
+      const double behind_m =
+          (goal.north_m - p.north_m) * axis_.north_m + (goal.east_m - p.east_m) * axis_.east_m;
+      on_axis_ = behind_m >= d_.line_up_distance_m + kAxisApproachMinM;
+      axis_line_.reset();
+      axis_last_ns_ = core::kNeverNs;
+    }
+    if (!on_axis_) return follow(ctx, goal, out);
+    const core::NavPoint from = along(goal, dock_heading_deg_, -kAxisLegM);
+    const double dt_s =
+        axis_last_ns_ == core::kNeverNs ? 0.0 : core::ns_to_sec(ctx.now_ns - axis_last_ns_);
+    axis_last_ns_ = ctx.now_ns;
+    const guidance::LineFollowOutput g = axis_line_.update(from, goal, p, dt_s);
+    // Arrived once abeam of the decision point (a radius would end the leg a metre short,
+    // still crossing the axis).
+    if (g.along_track_m >= g.leg_length_m) return false;
+    viz_goal(ctx, goal);
+    const double to_go_m = core::distance_m(p, goal);
+    out.steer = true;
+    out.desired_heading_deg = g.desired_heading_deg;
+    out.schedule_distance_m = to_go_m;
+    steer_clear(*avoidance_, ctx, g.desired_heading_deg, to_go_m + 0.5, near_, out);
+    return true;
+  }
+
   /// To the decision point of slip `i`, lined up on its axis from behind.
   void goto_slip(std::size_t i, const ReasonText& why) {
     slip_ = i;
     phase_ = Phase::kGoto;
+    approach_chosen_ = false;
     avoidance_->reset();
     const std::array<core::NavPoint, 2> route{line_up_[i], decision_[i]};
     (void)follower_.set_route(route);
@@ -380,6 +430,10 @@ class Docking2022Task final : public AvoidingTask {
 
   config::DockingConfig d_;
   guidance::WaypointFollower follower_;
+  guidance::LineFollower axis_line_;  // the approach along a slip's axis
+  core::TimeNs axis_last_ns_ = core::kNeverNs;
+  bool approach_chosen_ = false;  // whether on_axis_ is set for this approach
+  bool on_axis_ = false;          // approaching along the slip's axis (else via the route)
   guidance::DockingApproach approach_;
   SlipTracker slip_tracker_;
   perception::ObstacleList near_;

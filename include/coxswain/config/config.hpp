@@ -216,15 +216,19 @@ struct DockingConfig {
                                       // acts on the thruster's stream: no thrust, no turn)
   double line_up_distance_m = 2.0;    // 2022: approach a decision point from this far behind it
                                       // on the slip's axis, so the boat arrives facing the slip
+  double axis_lookahead_m = 6.0;      // 2022: line of sight along a slip's axis toward its
+                                      // decision point (shorter joins the axis steeper and
+                                      // overshoots it toward the pool wall)
   double marker_fix_gain = 0.3;       // 2022: weight of each frame's camera fix of the axis
-  double max_marker_fix_m = 1.5;      // 2022: largest sideways correction of the slip's axis
-  double slip_match_m = 1.2;          // 2022: a lidar mouth this near where the map puts the
-                                      // chosen slip is that slip (neighbours are farther)
-  double commit_range_m = 1.5;        // 2026: mouth nearer than this: hold the slip's axis
-  double sweep_wall_range_m = 5.0;    // 2026: far wall this near and no slip: sweep along it
-  double sweep_standoff_m = 4.5;      // 2026: distance kept from the far wall while sweeping
-  double sweep_turn_back_m = 3.0;     // 2026: a side wall this near turns the sweep back
-  guidance::SlipFinderParams slip;    // 2026: the slip mouth in the lidar profile
+  double marker_fix_max_range_m = 15.0;  // 2022: markers farther ahead do not fix the axis
+  double max_marker_fix_m = 1.5;         // 2022: largest sideways correction of the slip's axis
+  double slip_match_m = 1.2;             // 2022: a lidar mouth this near where the map puts the
+                                         // chosen slip is that slip (neighbours are farther)
+  double commit_range_m = 1.5;           // 2026: mouth nearer than this: hold the slip's axis
+  double sweep_wall_range_m = 5.0;       // 2026: far wall this near and no slip: sweep along it
+  double sweep_standoff_m = 4.5;         // 2026: distance kept from the far wall while sweeping
+  double sweep_turn_back_m = 3.0;        // 2026: a side wall this near turns the sweep back
+  guidance::SlipFinderParams slip;       // 2026: the slip mouth in the lidar profile
 };
 
 /// Navigation estimate (inside the core).

@@ -655,6 +655,76 @@ TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
       << rig->log_text();
 }
 
+TEST(MissionDocking2022, FromBehindTheBoatJoinsTheSlipAxisByLineOfSightAndArrivesAbeam) {
+  const config::Configuration c = three_slips_config(3.0);
+  auto rig = std::make_unique<Rig>(c);
+  operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
+  const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
+  // Undecided at the survey point, 3 m to port of slip 1's axis and 4 m behind its decision
+  // point: along the axis, joined at atan(3 / lookahead), not at the bearing of a point on it
+  // (that crossed the axis into the pool wall beside the outer slips).
+  rig->position = {3.0, 0.0};
+  rig->heading_deg = 90.0;
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/goto_slip1"; }, 2.0))
+      << rig->log_text();
+  rig->run_for(0.2);
+  const double join_deg =
+      90.0 + core::rad_to_deg(std::atan2(3.0, c.mission.docking.axis_lookahead_m));
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, join_deg, 2.0);
+  // Within a metre of the decision point but short of it: not there yet (a radius would end
+  // the approach here, still crossing the axis).
+  rig->position = {0.3, decision_east - 0.8};
+  rig->run_for(0.4);
+  EXPECT_EQ(rig->path(), "docking/goto_slip1") << rig->log_text();
+  // Abeam of it: there.
+  rig->position = {0.1, decision_east + 0.05};
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/face_slip1"; }, 1.0))
+      << rig->log_text();
+}
+
+/// Runs the survey from 24 m before the markers, every frame showing them as from 1 m north
+/// of the GNSS position; then enters slip 2 and stops. Returns the "docked" log.
+std::string dock_after_far_sightings(double fix_max_range_m) {
+  config::Configuration c = three_slips_config(3.0);
+  c.mission.docking.marker_fix_max_range_m = fix_max_range_m;
+  auto rig = std::make_unique<Rig>(c);
+  operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
+  rig->position = {3.0, -12.0};
+  rig->heading_deg = 90.0;
+  rig->run_for(0.4);
+  const msg::Colour colours[] = {msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue};
+  const msg::Shape shapes[] = {msg::Shape::kTriangle, msg::Shape::kCross, msg::Shape::kCircle};
+  for (int i = 0; i < 400 && rig->path() == "docking/survey"; ++i) {
+    if (i % 5 == 0) {
+      std::array<float, 3> b{};
+      for (std::size_t k = 0; k < b.size(); ++k) {  // markers at (3k, 12), from (4, -12), bow east
+        b[k] = static_cast<float>(
+            core::rad_to_deg(std::atan2(24.0, 3.0 * static_cast<double>(k) - 4.0)) - 90.0);
+      }
+      rig->camera({detection(colours[0], shapes[0], b[0]), detection(colours[1], shapes[1], b[1]),
+                   detection(colours[2], shapes[2], b[2])});
+    }
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
+  rig->position = {3.0, 10.0 - c.mission.docking.decision_distance_m};
+  EXPECT_TRUE(rig->run_until([&] { return rig->path() == "docking/enter_slip2"; }, 2.0))
+      << rig->log_text();
+  add_wall_ahead(rig->scan, 0.25, 1.0);
+  EXPECT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0)) << rig->log_text();
+  return rig->log_text();
+}
+
+TEST(MissionDocking2022, MarkersFartherThanTheFixRangeDoNotMoveTheAxis) {
+  // 24 m off, a degree of bearing is 0.4 m and the frame may lack a marker: no fix.
+  const std::string far = dock_after_far_sightings(15.0);
+  EXPECT_NE(far.find("camera fix 0.00 m"), std::string::npos) << far;
+  // The same sightings within the range do move it (the check can fail).
+  const std::string near = dock_after_far_sightings(30.0);
+  EXPECT_NE(near.find("docked in slip 2"), std::string::npos) << near;
+  EXPECT_EQ(near.find("camera fix 0.00 m"), std::string::npos) << near;
+}
+
 TEST(MissionDocking2022, ClosedLoopFindsTheTargetSlipAndStopsInside) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   const core::LocalFrame f(c.mission.origin);
