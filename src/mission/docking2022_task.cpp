@@ -47,6 +47,7 @@ class Docking2022Task final : public AvoidingTask {
       : AvoidingTask(t.name, m.avoidance),
         d_(m.docking),
         follower_(m.waypoints),
+        line_following_(m.waypoints.line_following),
         axis_line_([&m] {
           guidance::LineFollowParams line = m.waypoints.line;
           line.lookahead_m = m.docking.axis_lookahead_m;
@@ -267,7 +268,8 @@ class Docking2022Task final : public AvoidingTask {
       approach_chosen_ = true;
       const double behind_m =
           (goal.north_m - p.north_m) * axis_.north_m + (goal.east_m - p.east_m) * axis_.east_m;
-      on_axis_ = behind_m >= d_.line_up_distance_m + kAxisApproachMinM;
+      // Without line following (the documents' bearing steering), always the route.
+      on_axis_ = line_following_ && behind_m >= d_.line_up_distance_m + kAxisApproachMinM;
       axis_line_.reset();
       axis_last_ns_ = core::kNeverNs;
     }
@@ -430,6 +432,7 @@ class Docking2022Task final : public AvoidingTask {
 
   config::DockingConfig d_;
   guidance::WaypointFollower follower_;
+  bool line_following_;
   guidance::LineFollower axis_line_;  // the approach along a slip's axis
   core::TimeNs axis_last_ns_ = core::kNeverNs;
   bool approach_chosen_ = false;  // whether on_axis_ is set for this approach
