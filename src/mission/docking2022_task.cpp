@@ -24,10 +24,10 @@ core::NavPoint along(core::NavPoint p, double heading_deg, double distance_m) {
 /// KABOAT 2022 docking. Every camera frame votes, for each slip whose marker it shows, whether
 /// that marker is the target (markers are told apart by where the map puts them, or by their
 /// order across the frame); so the target is usually known from the survey point in front of
-/// the docks. Otherwise the documents' process: visit each slip's decision point, face its
-/// marker and vote. The target slip is entered by ray pursuit along its axis, the axis shifted
-/// sideways by the camera's fix of the marker (the GNSS error is larger than the slip's room),
-/// and the boat stops by lidar.
+/// the docks. Otherwise the documents' process: visit each slip's decision point (joining the
+/// slip's axis from behind by line of sight), face its marker and vote. The target slip is entered
+/// by ray pursuit along its axis, the axis shifted sideways by the camera's fix of the marker (the
+/// GNSS error is larger than the slip's room), and the boat stops by lidar.
 class Docking2022Task final : public AvoidingTask {
  public:
   static constexpr std::size_t kMaxSlips = 8;
@@ -118,7 +118,7 @@ class Docking2022Task final : public AvoidingTask {
         return TaskResult::kRunning;
       case Phase::kGoto:
         if (target_slip_ && *target_slip_ != slip_) return goto_target(ctx, out);
-        if (approach(ctx, out)) return TaskResult::kRunning;
+        if (to_decision_point(ctx, out)) return TaskResult::kRunning;
         phase_ = Phase::kFace;
         face_since_ns_ = core::kNeverNs;
         set_phase(slip_phase("face_slip").view(),
@@ -261,7 +261,7 @@ class Docking2022Task final : public AvoidingTask {
   /// wall, and a boat that reaches its line-up point crossing the axis overshoots into the wall.
   /// From beside it (moving on from a neighbour's decision point), the route via the line-up
   /// point.
-  bool approach(const TaskContext& ctx, GuidanceRequest& out) {
+  bool to_decision_point(const TaskContext& ctx, GuidanceRequest& out) {
     const core::NavPoint p = corrected(ctx.antenna);
     const core::NavPoint goal = decision_[slip_];
     if (!approach_chosen_) {
