@@ -173,14 +173,19 @@ bool SlipTracker::update(const core::NavPose& pose, const guidance::SlipOpening&
 }
 
 double SlipTracker::follow_heading_deg(const core::NavPose& pose, double ray_start_m,
-                                       core::TimeNs now_ns) {
+                                       core::TimeNs now_ns, double lookahead_per_m) {
   const double a = core::deg_to_rad(axis_true_deg_);
   const core::NavPoint from{mouth_.north_m - ray_start_m * std::cos(a),
                             mouth_.east_m - ray_start_m * std::sin(a)};
   const core::NavPoint to{mouth_.north_m + std::cos(a), mouth_.east_m + std::sin(a)};
   const double dt_s = last_ns_ == core::kNeverNs ? 0.0 : core::ns_to_sec(now_ns - last_ns_);
   last_ns_ = now_ns;
-  return line_.update(from, to, pose.position, dt_s).desired_heading_deg;
+  const guidance::LineFollowOutput o = line_.update(from, to, pose.position, dt_s);
+  if (!(lookahead_per_m > 0.0)) return o.desired_heading_deg;
+  const double to_mouth_m = ray_start_m - o.along_track_m;
+  const double lookahead_m = std::max(lookahead_m_, lookahead_per_m * to_mouth_m);
+  const double shifted_m = o.cross_track_m + line_.integral_m();
+  return core::wrap_deg(o.path_bearing_deg - core::rad_to_deg(std::atan2(shifted_m, lookahead_m)));
 }
 
 }  // namespace coxswain::mission::detail

@@ -110,7 +110,8 @@ guidance::LineFollowParams slip_line_params(const config::MissionConfig& m);
 /// on the pair is as good as the lidar.
 class SlipTracker {
  public:
-  explicit SlipTracker(const guidance::LineFollowParams& line = {}) : line_(line) {}
+  explicit SlipTracker(const guidance::LineFollowParams& line = {})
+      : line_(line), lookahead_m_(line.lookahead_m) {}
   void reset() {
     seen_ = false;
     rejected_ = 0;
@@ -126,9 +127,12 @@ class SlipTracker {
   [[nodiscard]] double axis_true_deg() const { return axis_true_deg_; }
   /// Line following (ILOS: the integral takes out a side current's crab) along the slip's axis,
   /// from `ray_start_m` outside the mouth to its inside, so the boat lines up before the mouth
-  /// instead of cutting the corner. `now_ns` times the integral.
+  /// instead of cutting the corner. `now_ns` times the integral. With `lookahead_per_m` > 0 the
+  /// line of sight looks this far ahead per metre still to go to the mouth (never less than the
+  /// line's own lookahead): a slip seen far off its axis is joined at an angle the boat can turn
+  /// out of before the mouth.
   [[nodiscard]] double follow_heading_deg(const core::NavPose& pose, double ray_start_m,
-                                          core::TimeNs now_ns);
+                                          core::TimeNs now_ns, double lookahead_per_m = 0.0);
 
  private:
   static constexpr double kGateM = 1.0;
@@ -138,6 +142,7 @@ class SlipTracker {
   core::NavPoint mouth_;
   double axis_true_deg_ = 0.0;
   guidance::LineFollower line_;
+  double lookahead_m_;
   core::TimeNs last_ns_ = core::kNeverNs;
 };
 

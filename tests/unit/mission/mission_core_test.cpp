@@ -826,6 +826,28 @@ TEST(MissionCourse3, AFarWallWithoutASlipIsSweptAlongOnTheRoomierSideAndTurnedBa
   EXPECT_LT(rig->out.viz.desired_heading_deg, -90.0 + 1e-9);
 }
 
+TEST(MissionCourse3, ASlipSeenFarOffItsAxisIsJoinedAtAnAngleTheBoatCanTurnOutOf) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.navigation.course_zero_deg = 0.0;
+  auto rig = std::make_unique<Rig>(c);
+  rig->live_gnss = false;
+  // A slip 2.4 m wide running north, its mouth 7 m ahead and 4 m to port of the boat.
+  for (double n = 7.0; n <= 9.5; n += 0.15) {
+    rig->world_buoys.push_back({{n, -5.2}, 0.15});
+    rig->world_buoys.push_back({{n, -2.8}, 0.15});
+  }
+  for (double e = -5.1; e <= -2.9; e += 0.15) rig->world_buoys.push_back({{9.5, e}, 0.15});
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/approach_slip"; }, 1.0))
+      << rig->log_text();
+  rig->run_for(4.0);  // the thrust rises at most 0.2 per second
+  // Looking 0.5 m ahead per metre to go (7 m: 3.5 m), not the slip line's 1.5 m (69 deg).
+  const double join_deg = -core::rad_to_deg(std::atan2(4.0, 0.5 * 7.0));
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, join_deg, 4.0);
+  // With more than the approach thrust while far from the mouth (the thruster turns the boat).
+  EXPECT_GT(rig->thrust_frac(), c.mission.docking.approach_thrust_frac + 0.05);
+}
+
 TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
