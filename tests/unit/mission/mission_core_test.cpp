@@ -617,16 +617,23 @@ TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipThenRayPursuitAndLidarStop)
   EXPECT_TRUE(rig->neutral());
 }
 
-TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
-  const config::Configuration c = three_slips_config(3.0);
+/// A rig at the survey point (3 m to port of slip 1's axis, 4 m behind its decision point),
+/// facing the docks, run until nothing seen there sends it on to slip 1; null if it does not.
+std::unique_ptr<Rig> undecided_at_survey_point(const config::Configuration& c) {
   auto rig = std::make_unique<Rig>(c);
   operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
-  const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
-  // Nothing seen on the way to the survey point: on to the slips, one by one.
   rig->position = {3.0, 0.0};
   rig->heading_deg = 90.0;
-  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/goto_slip1"; }, 2.0))
-      << rig->log_text();
+  if (!rig->run_until([&] { return rig->path() == "docking/goto_slip1"; }, 2.0)) return nullptr;
+  return rig;
+}
+
+TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
+  const config::Configuration c = three_slips_config(3.0);
+  const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
+  // Nothing seen on the way to the survey point: on to the slips, one by one.
+  auto rig = undecided_at_survey_point(c);
+  ASSERT_TRUE(rig);
   EXPECT_TRUE(rig->logged("survey point reached undecided")) << rig->log_text();
   rig->position = {0.0, decision_east - c.mission.docking.line_up_distance_m};
   rig->run_for(0.4);
@@ -657,16 +664,12 @@ TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
 
 TEST(MissionDocking2022, FromBehindTheBoatJoinsTheSlipAxisByLineOfSightAndArrivesAbeam) {
   const config::Configuration c = three_slips_config(3.0);
-  auto rig = std::make_unique<Rig>(c);
-  operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
   const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
   // Undecided at the survey point, 3 m to port of slip 1's axis and 4 m behind its decision
   // point: along the axis, joined at atan(3 / lookahead), not at the bearing of a point on it
   // (that crossed the axis into the pool wall beside the outer slips).
-  rig->position = {3.0, 0.0};
-  rig->heading_deg = 90.0;
-  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/goto_slip1"; }, 2.0))
-      << rig->log_text();
+  auto rig = undecided_at_survey_point(c);
+  ASSERT_TRUE(rig);
   rig->run_for(0.2);
   const double join_deg =
       90.0 + core::rad_to_deg(std::atan2(3.0, c.mission.docking.axis_lookahead_m));
