@@ -118,9 +118,22 @@ void build_dock_geometry(Dock& dock, double wall_height_m) {
   const core::NavPoint back_left = add(mouth_left, scale(fwd, dock.depth_m));
   const core::NavPoint back_right = add(mouth_right, scale(fwd, dock.depth_m));
   dock.walls.clear();
-  dock.walls.push_back({{mouth_left, back_left}, wall_height_m});
-  dock.walls.push_back({{back_left, back_right}, wall_height_m});
-  dock.walls.push_back({{back_right, mouth_right}, wall_height_m});
+  const double fw = dock.finger_width_m;
+  if (fw > 0.0) {
+    const core::NavPoint out_left = scale(right, -fw);
+    const core::NavPoint out_right = scale(right, fw);
+    dock.walls.push_back({{mouth_left, back_left, add(back_left, out_left),
+                           add(mouth_left, out_left), mouth_left},
+                          wall_height_m});
+    dock.walls.push_back({{add(back_left, out_left), add(back_right, out_right)}, wall_height_m});
+    dock.walls.push_back({{mouth_right, add(mouth_right, out_right), add(back_right, out_right),
+                           back_right, mouth_right},
+                          wall_height_m});
+  } else {
+    dock.walls.push_back({{mouth_left, back_left}, wall_height_m});
+    dock.walls.push_back({{back_left, back_right}, wall_height_m});
+    dock.walls.push_back({{back_right, mouth_right}, wall_height_m});
+  }
   dock.marker.center = add(dock.entrance, scale(fwd, dock.depth_m));
   dock.marker.facing_deg = core::wrap_deg(dock.entry_heading_deg + 180.0);
 }
@@ -281,6 +294,7 @@ Course load_course_file(const std::string& path, ConfigErrors& errors) {
     d.entry_heading_deg = core::wrap_deg(m->require<double>("entry_heading_deg", kHeading));
     d.width_m = m->get("width_m", 1.6, {0.2, 20.0});
     d.depth_m = m->get("depth_m", 2.0, {0.2, 20.0});
+    d.finger_width_m = m->get("finger_width_m", 0.3, {0.0, 5.0});
     const double wall_height = m->get("wall_height_m", 0.5, {0.01, 20.0});
     if (auto mk = m->map("marker", true)) {
       d.marker.colour = read_colour(*mk, "colour", msg::Colour::kRed);
@@ -394,7 +408,8 @@ std::string to_course_yaml(const Course& course) {
     const double wall_height = d.walls.empty() ? 0.5 : d.walls.front().height_m;
     o << "  - {name: " << d.name << ", entrance: " << pt(d.entrance)
       << ", entry_heading_deg: " << d.entry_heading_deg << ", width_m: " << d.width_m
-      << ", depth_m: " << d.depth_m << ", wall_height_m: " << wall_height
+      << ", depth_m: " << d.depth_m << ", finger_width_m: " << d.finger_width_m
+      << ", wall_height_m: " << wall_height
       << ",\n     marker: {colour: " << msg::colour_name(d.marker.colour)
       << ", shape: " << msg::shape_name(d.marker.shape) << ", size_m: " << d.marker.size_m
       << ", height_m: " << d.marker.height_m << "}}\n";

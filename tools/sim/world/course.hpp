@@ -34,8 +34,9 @@ World load_course(const std::string& path, config::ConfigErrors& errors);
 void validate_world(const World& world, config::ConfigErrors& errors,
                     double start_clearance_m = 0.3);
 
-/// The walls of a slip (left side, back, right side) from its mouth, heading, width and depth,
-/// and its marker placed on the back wall facing out. Fills dock.walls and dock.marker.center.
+/// The walls of a slip (left finger, back, right finger) from its mouth, heading, width, depth
+/// and finger width (a finger wider than 0 is a closed outline outward of the slip), and its
+/// marker placed on the back wall facing out. Fills dock.walls and dock.marker.center.
 void build_dock_geometry(Dock& dock, double wall_height_m = 0.5);
 
 /// The course as a YAML file load_course_file() accepts (comments name the scheme).

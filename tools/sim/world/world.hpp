@@ -57,6 +57,9 @@ struct Dock {
   double entry_heading_deg = 0.0;  // heading of a boat driving straight in
   double depth_m = 2.0;            // entrance to back wall
   double width_m = 1.6;            // between the side walls
+  // Side walls (fingers) this wide, outward of width_m. Floating docks are pontoons half a metre
+  // or so across; a zero-width finger is invisible to a lidar looking straight down the slip.
+  double finger_width_m = 0.3;
 };
 
 /// A named waypoint (arrival judged by the 2022 rule: half the hull inside radius_m).

@@ -3,9 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "sim/sensors/rng.hpp"
+#include "sim/world/course.hpp"
+#include "sim/world/world.hpp"
 
 namespace coxswain::sim::sensors {
 namespace {
@@ -57,6 +61,33 @@ TEST(RayScene, BinnedCastEqualsBruteForceFromAnywhereInTheRegion) {
     ASSERT_NEAR(binned, brute, 1e-9) << "ray " << i << " bearing " << bearing;
   }
   EXPECT_GT(hits, 1000);
+}
+
+// A lidar 8 m out on a slip's axis: rays aimed at the fingers' ends hit them (floating docks
+// have pontoons half a metre across); zero-width fingers let the same rays through to the back.
+TEST(RayScene, FingersOfADockFaceALidarLookingStraightDownTheSlip) {
+  const auto range_at_finger = [](double finger_width_m) {
+    world::World w;
+    world::Dock d;
+    d.name = "dock";
+    d.entrance = {10.0, 0.0};
+    d.width_m = 1.6;
+    d.depth_m = 2.0;
+    d.finger_width_m = finger_width_m;
+    world::build_dock_geometry(d);
+    w.docks.push_back(d);
+    RayScene scene(w);
+    scene.prepare({2.0, 0.0}, 0.5, 20.0);
+    const double finger_middle_e = 0.8 + 0.5 * std::max(finger_width_m, 0.01);
+    const double bearing_deg = std::atan2(finger_middle_e, 8.0) * 180.0 / std::acos(-1.0);
+    return std::make_pair(scene.cast({2.0, 0.0}, bearing_deg), scene.cast({2.0, 0.0}, -bearing_deg));
+  };
+  const auto [right_m, left_m] = range_at_finger(0.3);
+  EXPECT_NEAR(right_m, 8.0 / std::cos(std::atan2(0.95, 8.0)), 1e-6);
+  EXPECT_NEAR(left_m, right_m, 1e-9);
+  const auto [thin_right_m, thin_left_m] = range_at_finger(0.0);
+  EXPECT_LT(thin_right_m, 0.0);  // past the slip: nothing (the thin back wall spans the slip only)
+  EXPECT_LT(thin_left_m, 0.0);
 }
 
 }  // namespace
