@@ -345,6 +345,7 @@ void read_engines(MapReader& root, MissionConfig& mission) {
     sl.max_depth_m = m->get("slip_max_depth_m", sl.max_depth_m, kPositive);
     sl.max_bearing_deg = m->get("slip_max_bearing_deg", sl.max_bearing_deg, {1.0, 180.0});
     sl.max_axis_deg = m->get("slip_max_axis_deg", sl.max_axis_deg, {1.0, 180.0});
+    sl.max_range_m = m->get("slip_max_range_m", sl.max_range_m, kPositive);
     check(*m, sl.validate());
     m->finish();
   }
@@ -844,6 +845,7 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "slip_max_depth_m", d.slip.max_depth_m);
   kv(out, "slip_max_bearing_deg", d.slip.max_bearing_deg);
   kv(out, "slip_max_axis_deg", d.slip.max_axis_deg);
+  kv(out, "slip_max_range_m", d.slip.max_range_m);
   out << YAML::EndMap;
 }
 

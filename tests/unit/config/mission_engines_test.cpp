@@ -50,7 +50,7 @@ TEST(MissionEngines, SectionsReachTheEngineParameters) {
                             "speed: {cruise_thrust_frac: 0.5, rise_per_s: 0.1}\n"
                             "waypoints: {arrival_radius_m: 1.2, lookahead_m: 3.0}\n"
                             "course2: {colours: [yellow, blue], exit_course_deg: 90.0}\n"
-                            "docking: {stop_range_m: 0.4}\n"
+                            "docking: {stop_range_m: 0.4, slip_max_range_m: 18.0}\n"
                             "vision_vote: {window_s: 3.0, min_ratio: 0.7}\n"
                             "start: {mode: immediate, require_arduino: false}\n") +
                 kCourse3Task + "    on_timeout: finish\n");
@@ -73,6 +73,7 @@ TEST(MissionEngines, SectionsReachTheEngineParameters) {
   EXPECT_EQ(m.course2.colours[0], msg::Colour::kYellow);
   EXPECT_DOUBLE_EQ(m.course2.exit_course_deg, 90.0);
   EXPECT_DOUBLE_EQ(m.docking.approach.stop_range_m, 0.4);
+  EXPECT_DOUBLE_EQ(m.docking.slip.max_range_m, 18.0);
   EXPECT_EQ(m.vision_vote.window_ns, 3 * core::kNsPerSec);
   EXPECT_DOUBLE_EQ(m.vision_vote.min_ratio, 0.7);
   EXPECT_FALSE(m.require_arduino);
@@ -87,6 +88,7 @@ TEST(MissionEngines, SectionsReachTheEngineParameters) {
   EXPECT_NE(yaml.find("zero_heading_deg: 12.5"), std::string::npos);
   EXPECT_NE(yaml.find("colours: [yellow, blue]"), std::string::npos);
   EXPECT_NE(yaml.find("style: course3"), std::string::npos);
+  EXPECT_NE(yaml.find("slip_max_range_m: 18"), std::string::npos);
   EXPECT_NO_THROW((void)YAML::Load(yaml));
 }
 
