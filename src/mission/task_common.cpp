@@ -180,6 +180,11 @@ double SlipTracker::follow_heading_deg(const core::NavPose& pose, double ray_sta
   const core::NavPoint to{mouth_.north_m + std::cos(a), mouth_.east_m + std::sin(a)};
   const double dt_s = last_ns_ == core::kNeverNs ? 0.0 : core::ns_to_sec(now_ns - last_ns_);
   last_ns_ = now_ns;
+  // The integral is for a side current's crab on the axis. Joining from metres off it, it wound
+  // up and carried the boat across the axis onto a finger at the mouth: only near the axis.
+  if (std::abs(line_.geometry(from, to, pose.position).cross_track_m) > kIntegrateWithinM) {
+    line_.reset();
+  }
   const guidance::LineFollowOutput o = line_.update(from, to, pose.position, dt_s);
   if (!(lookahead_per_m > 0.0)) return o.desired_heading_deg;
   const double to_mouth_m = ray_start_m - o.along_track_m;

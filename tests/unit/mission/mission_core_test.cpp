@@ -851,6 +851,27 @@ TEST(MissionCourse3, ASlipSeenFarOffItsAxisIsJoinedAtAnAngleTheBoatCanTurnOutOf)
   EXPECT_GT(rig->thrust_frac(), c.mission.docking.approach_thrust_frac + 0.05);
 }
 
+TEST(MissionCourse3, WaitingFarOffTheAxisWindsUpNoIntegralThatCarriesTheBoatAcrossIt) {
+  config::Configuration c = base_config(config::TaskType::kDocking);
+  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
+  c.mission.navigation.course_zero_deg = 0.0;
+  auto rig = std::make_unique<Rig>(c);
+  // A slip 2.4 m wide running north, its mouth 7 m ahead, its axis 4 m to port of the boat.
+  for (double n = 7.0; n <= 9.5; n += 0.15) {
+    rig->world_buoys.push_back({{n, -5.2}, 0.15});
+    rig->world_buoys.push_back({{n, -2.8}, 0.15});
+  }
+  for (double e = -5.1; e <= -2.9; e += 0.15) rig->world_buoys.push_back({{9.5, e}, 0.15});
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/approach_slip"; }, 1.0))
+      << rig->log_text();
+  rig->run_for(20.0);  // held 4 m off the axis (the ILOS integral would wind up here)
+  // Put on the axis 5 m out, heading along it: the line asks for the axis, not a crossing.
+  rig->position = {2.0, -4.0};
+  rig->run_for(1.0);
+  ASSERT_NEAR(rig->out.viz.pose.position.east_m, -4.0, 0.05);
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 0.0, 3.0);
+}
+
 TEST(MissionCourse3, ClosedLoopFindsTheSlipMouthAndDocksOnItsAxis) {
   config::Configuration c = base_config(config::TaskType::kDocking);
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
