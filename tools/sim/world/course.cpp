@@ -122,9 +122,9 @@ void build_dock_geometry(Dock& dock, double wall_height_m) {
   if (fw > 0.0) {
     const core::NavPoint out_left = scale(right, -fw);
     const core::NavPoint out_right = scale(right, fw);
-    dock.walls.push_back({{mouth_left, back_left, add(back_left, out_left),
-                           add(mouth_left, out_left), mouth_left},
-                          wall_height_m});
+    dock.walls.push_back(
+        {{mouth_left, back_left, add(back_left, out_left), add(mouth_left, out_left), mouth_left},
+         wall_height_m});
     dock.walls.push_back({{add(back_left, out_left), add(back_right, out_right)}, wall_height_m});
     dock.walls.push_back({{mouth_right, add(mouth_right, out_right), add(back_right, out_right),
                            back_right, mouth_right},

@@ -80,7 +80,8 @@ TEST(RayScene, FingersOfADockFaceALidarLookingStraightDownTheSlip) {
     scene.prepare({2.0, 0.0}, 0.5, 20.0);
     const double finger_middle_e = 0.8 + 0.5 * std::max(finger_width_m, 0.01);
     const double bearing_deg = std::atan2(finger_middle_e, 8.0) * 180.0 / std::acos(-1.0);
-    return std::make_pair(scene.cast({2.0, 0.0}, bearing_deg), scene.cast({2.0, 0.0}, -bearing_deg));
+    return std::make_pair(scene.cast({2.0, 0.0}, bearing_deg),
+                          scene.cast({2.0, 0.0}, -bearing_deg));
   };
   const auto [right_m, left_m] = range_at_finger(0.3);
   EXPECT_NEAR(right_m, 8.0 / std::cos(std::atan2(0.95, 8.0)), 1e-6);
