@@ -35,13 +35,14 @@ bool contains(const std::string& s, std::string_view what) {
 // Devices mode on its own thread for the length of a test; stopped (Ctrl-C path) at the end.
 class DevicesRun {
  public:
-  explicit DevicesRun(const std::string& name) {
+  explicit DevicesRun(const std::string& name, const std::string& course = "kaboat2026.yaml",
+                      const std::string& mission = "kaboat2026.yaml") {
     run_dir_ =
         fs::temp_directory_path() / ("coxswain-devices-" + name + "-" + std::to_string(::getpid()));
     fs::remove_all(run_dir_);
     DevicesModeOptions o;
-    o.course_file = kConfig / "courses" / "kaboat2026.yaml";
-    o.mission_file = kConfig / "missions" / "kaboat2026.yaml";
+    o.course_file = kConfig / "courses" / course;
+    o.mission_file = kConfig / "missions" / mission;
     o.run_dir = run_dir_;
     o.time_limit_s = 120.0;  // a backstop: each test stops the run itself
     o.record = false;        // spare the shared CPU; the recorder has its own tests
@@ -210,6 +211,25 @@ TEST(DaemonDevices, EveryDeviceRunsAndTheBoatSailsTowardTheFirstWaypoint) {
                             << " m away, best " << best << " m)";
   const auto t = run.mode().truth();
   EXPECT_GT(t.u_mps, 0.2) << "the boat is not under way";
+}
+
+// A mission started from the control interface (2022 docking): the simulated operator gives
+// the course's target and the start through the daemon's control socket once the devices run.
+TEST(DaemonDevices, AControlStartedMissionGetsTheCoursesTargetAndTheStartThroughTheSocket) {
+  DevicesRun run("control", "kaboat2022_docking.yaml", "docking.yaml");
+  ASSERT_NE(run.daemon(), nullptr) << "devices mode did not start the daemon";
+  const auto target =
+      run.wait_line(0, "control: target red triangle (from control socket)", seconds(40));
+  ASSERT_TRUE(target.has_value()) << "the operator never gave the course's target";
+  const auto start =
+      run.wait_line(target->first, "control: start (from control socket)", seconds(10));
+  ASSERT_TRUE(start.has_value()) << "the operator never gave the start";
+  EXPECT_TRUE(run.wait_line(start->first,
+                            "wait_for_start -> docking/survey: started from the "
+                            "control interface",
+                            seconds(20))
+                  .has_value())
+      << "the mission never started";
 }
 
 // Unplugs device `id` mid-mission: the mission holds within 0.5 s (measured from the unplug to

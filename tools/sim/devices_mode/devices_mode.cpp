@@ -5,6 +5,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include <thread>
 
 #include "coxswain/core/clock.hpp"
+#include "coxswain/live/control_client.hpp"
 #include "sim/devices/arduino/emulator.hpp"
 #include "sim/devices/camera/frame_writer.hpp"
 #include "sim/devices/myahrs/emulator.hpp"
@@ -172,6 +174,9 @@ struct DevicesMode::Impl {
   pty::EmulatorHost& serial(msg::DeviceId id) { return *hosts[static_cast<std::size_t>(id)]; }
 
   fs::path dev_dir() const { return options.run_dir / "dev"; }
+  // The daemon's control socket, where the simulated operator gives the target and the start
+  // of a mission started from the control interface.
+  fs::path control_socket() const { return fs::absolute(options.run_dir) / "control.sock"; }
   fs::path camera_dir() const { return options.run_dir / "camera"; }
   fs::path devices_yaml() const { return options.run_dir / "devices.yaml"; }
 
@@ -192,7 +197,8 @@ struct DevicesMode::Impl {
       << "\", timeout_ms: 500, failsafe_ms: " << kFailsafeMs << "}\n"
       << "camera: {source: \"follow:" << camera_dir().string() << "\", width_px: " << cam.width_px
       << ", height_px: " << cam.height_px << ", fps: " << cam.rate_hz
-      << ", hfov_deg: " << cam.hfov_deg << ", timeout_ms: 1000}\n";
+      << ", hfov_deg: " << cam.hfov_deg << ", timeout_ms: 1000}\n"
+      << "live: {control_socket: \"" << control_socket().string() << "\"}\n";
     write_text(devices_yaml(), y.str());
   }
 };
@@ -342,6 +348,16 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   DaemonProcess& daemon = *s.daemon;
   const bool switch_start = s.mission.start_mode == config::StartMode::kArduinoSwitch;
   bool switch_on = false;
+  const bool control_start = s.mission.start_mode == config::StartMode::kControl;
+  std::vector<std::string> operator_commands;  // sent in order through the control socket
+  if (control_start) {
+    if (w.target_colour != msg::Colour::kUnknown && w.target_shape != msg::Shape::kUnknown) {
+      operator_commands.push_back("target " + std::string(msg::colour_name(w.target_colour)) + " " +
+                                  std::string(msg::shape_name(w.target_shape)));
+    }
+    operator_commands.emplace_back("start");
+  }
+  std::size_t operator_sent = 0;
 
   DevicesOutcome out;
   std::vector<core::NavPose> path{truth.pose};
@@ -398,14 +414,29 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
     if (t >= next_check_ns) {
       next_check_ns += 100 * core::kNsPerMs;
       const DaemonReport r = daemon.report();
+      bool all_running = true;
+      for (msg::DeviceId id : kSerial) {
+        auto it = r.device_state.find(std::string(msg::device_name(id)));
+        all_running = all_running && it != r.device_state.end() && it->second == "running";
+      }
+      // The operator gives the target drawn for the course and the start through the control
+      // socket once every serial device is up (the socket may not be there yet: next check).
+      if (all_running && operator_sent < operator_commands.size()) {
+        std::string error;
+        const auto answer = live::send_control_command(
+            s.control_socket(), operator_commands[operator_sent], error, 1.0);
+        if (answer && live::answer_ok(*answer)) {
+          ++operator_sent;
+        } else if (answer) {
+          // A refusal is the daemon's answer to an operator: logged, the run goes on unstarted.
+          std::cerr << "devices mode: the daemon refused '" << operator_commands[operator_sent]
+                    << "': " << *answer << "\n";
+          operator_sent = operator_commands.size();
+        }
+      }
       if (switch_start && !switch_on) {
         // The operator flips the switch once every serial device is up.
-        bool all = true;
-        for (msg::DeviceId id : kSerial) {
-          auto it = r.device_state.find(std::string(msg::device_name(id)));
-          all = all && it != r.device_state.end() && it->second == "running";
-        }
-        if (all) {
+        if (all_running) {
           s.serial(msg::DeviceId::kArduino).locked([&] {
             auto in = s.arduino_emu.inputs();
             in.start_switch = true;
