@@ -219,15 +219,15 @@ TEST(DaemonDevices, AControlStartedMissionGetsTheCoursesTargetAndTheStartThrough
   DevicesRun run("control", "kaboat2022_docking.yaml", "docking.yaml");
   ASSERT_NE(run.daemon(), nullptr) << "devices mode did not start the daemon";
   const auto target =
-      run.wait_line(0, "control: target red triangle (from control socket)", seconds(40));
+      run.wait_line(0, "control: target red triangle (from control socket)", seconds(90));
   ASSERT_TRUE(target.has_value()) << "the operator never gave the course's target";
   const auto start =
-      run.wait_line(target->first, "control: start (from control socket)", seconds(10));
+      run.wait_line(target->first, "control: start (from control socket)", seconds(30));
   ASSERT_TRUE(start.has_value()) << "the operator never gave the start";
   EXPECT_TRUE(run.wait_line(start->first,
                             "wait_for_start -> docking/survey: started from the "
                             "control interface",
-                            seconds(20))
+                            seconds(30))
                   .has_value())
       << "the mission never started";
 }
