@@ -147,6 +147,9 @@ void steer_clear(guidance::Avoidance& avoidance, const TaskContext& ctx, double 
 guidance::LineFollowParams slip_line_params(const config::MissionConfig& m) {
   guidance::LineFollowParams p = m.waypoints.line;
   p.lookahead_m = m.docking.approach.lookahead_m;
+  // Joining a slip from metres off its axis, the integral wound up and carried the boat across
+  // the axis onto a finger at the mouth (kaboat2026, 100 runs: 91 -> 92 clean, 96% -> 97%).
+  p.integrate_within_m = 0.5;
   return p;
 }
 
@@ -180,11 +183,6 @@ double SlipTracker::follow_heading_deg(const core::NavPose& pose, double ray_sta
   const core::NavPoint to{mouth_.north_m + std::cos(a), mouth_.east_m + std::sin(a)};
   const double dt_s = last_ns_ == core::kNeverNs ? 0.0 : core::ns_to_sec(now_ns - last_ns_);
   last_ns_ = now_ns;
-  // The integral is for a side current's crab on the axis. Joining from metres off it, it wound
-  // up and carried the boat across the axis onto a finger at the mouth: only near the axis.
-  if (std::abs(line_.geometry(from, to, pose.position).cross_track_m) > kIntegrateWithinM) {
-    line_.reset();
-  }
   const guidance::LineFollowOutput o = line_.update(from, to, pose.position, dt_s);
   if (!(lookahead_per_m > 0.0)) return o.desired_heading_deg;
   const double to_mouth_m = ray_start_m - o.along_track_m;

@@ -137,7 +137,6 @@ class SlipTracker {
  private:
   static constexpr double kGateM = 1.0;
   static constexpr int kRestartAfter = 10;
-  static constexpr double kIntegrateWithinM = 0.5;  // of the axis; farther, no ILOS integral
   bool seen_ = false;
   int rejected_ = 0;
   core::NavPoint mouth_;

@@ -4,6 +4,7 @@
 // with an optional integral term (ILOS, Borhaug et al. 2008) that removes the steady offset a
 // side current or a biased actuator would leave. Steering at the bearing to the next point
 // instead (the 2022 code) draws arcs when the boat is off the leg: mission.md section 4.
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -16,6 +17,9 @@ struct LineFollowParams {
   double integral_gain = 0.2;   // sigma (unitless); 0 = plain LOS
   double max_integral_m = 3.0;  // |sigma * y_int| limit, metres (anti-windup)
   double max_dt_s = 0.5;        // longer steps are not integrated (dropouts)
+  // Farther off the line the integral restarts from zero: it is for a current's crab on the
+  // line, and joining from metres off it, it winds up and carries the boat across the line.
+  double integrate_within_m = std::numeric_limits<double>::infinity();
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };

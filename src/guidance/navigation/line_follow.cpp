@@ -13,6 +13,7 @@ std::optional<std::string> LineFollowParams::validate() const {
   if (!(integral_gain >= 0.0)) return "line: integral_gain must be >= 0";
   if (!(max_integral_m >= 0.0)) return "line: max_integral_m must be >= 0";
   if (!(max_dt_s > 0.0)) return "line: max_dt_s must be > 0";
+  if (!(integrate_within_m > 0.0)) return "line: integrate_within_m must be > 0";
   return std::nullopt;
 }
 
@@ -48,6 +49,7 @@ LineFollowOutput LineFollower::update(core::NavPoint from, core::NavPoint to,
   if (out.leg_length_m < 1e-6) return out;
   const double e = out.cross_track_m;
   const double delta = p_.lookahead_m;
+  if (std::abs(e) > p_.integrate_within_m) y_int_m_ = 0.0;
   if (p_.integral_gain > 0.0 && dt_s > 0.0 && dt_s <= p_.max_dt_s) {
     // ILOS: y_int' = Delta e / (Delta^2 + (e + sigma y_int)^2), bounded for anti-windup.
     const double shifted = e + p_.integral_gain * y_int_m_;

@@ -829,18 +829,29 @@ TEST(MissionCourse3, AFarWallWithoutASlipIsSweptAlongOnTheRoomierSideAndTurnedBa
   EXPECT_LT(rig->out.viz.desired_heading_deg, -90.0 + 1e-9);
 }
 
-TEST(MissionCourse3, ASlipSeenFarOffItsAxisIsJoinedAtAnAngleTheBoatCanTurnOutOf) {
+// Course 3, the course's forward direction north.
+config::Configuration course3_forward_north_config() {
   config::Configuration c = base_config(config::TaskType::kDocking);
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
   c.mission.navigation.course_zero_deg = 0.0;
+  return c;
+}
+
+// A slip 2.4 m wide running north, its mouth 7 m ahead of the boat at the origin and its axis
+// 4 m to port.
+void add_slip_4m_to_port(Rig& rig) {
+  for (double n = 7.0; n <= 9.5; n += 0.15) {
+    rig.world_buoys.push_back({{n, -5.2}, 0.15});
+    rig.world_buoys.push_back({{n, -2.8}, 0.15});
+  }
+  for (double e = -5.1; e <= -2.9; e += 0.15) rig.world_buoys.push_back({{9.5, e}, 0.15});
+}
+
+TEST(MissionCourse3, ASlipSeenFarOffItsAxisIsJoinedAtAnAngleTheBoatCanTurnOutOf) {
+  const config::Configuration c = course3_forward_north_config();
   auto rig = std::make_unique<Rig>(c);
   rig->live_gnss = false;
-  // A slip 2.4 m wide running north, its mouth 7 m ahead and 4 m to port of the boat.
-  for (double n = 7.0; n <= 9.5; n += 0.15) {
-    rig->world_buoys.push_back({{n, -5.2}, 0.15});
-    rig->world_buoys.push_back({{n, -2.8}, 0.15});
-  }
-  for (double e = -5.1; e <= -2.9; e += 0.15) rig->world_buoys.push_back({{9.5, e}, 0.15});
+  add_slip_4m_to_port(*rig);
   ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/approach_slip"; }, 1.0))
       << rig->log_text();
   rig->run_for(4.0);  // the thrust rises at most 0.2 per second
@@ -852,16 +863,8 @@ TEST(MissionCourse3, ASlipSeenFarOffItsAxisIsJoinedAtAnAngleTheBoatCanTurnOutOf)
 }
 
 TEST(MissionCourse3, WaitingFarOffTheAxisWindsUpNoIntegralThatCarriesTheBoatAcrossIt) {
-  config::Configuration c = base_config(config::TaskType::kDocking);
-  c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
-  c.mission.navigation.course_zero_deg = 0.0;
-  auto rig = std::make_unique<Rig>(c);
-  // A slip 2.4 m wide running north, its mouth 7 m ahead, its axis 4 m to port of the boat.
-  for (double n = 7.0; n <= 9.5; n += 0.15) {
-    rig->world_buoys.push_back({{n, -5.2}, 0.15});
-    rig->world_buoys.push_back({{n, -2.8}, 0.15});
-  }
-  for (double e = -5.1; e <= -2.9; e += 0.15) rig->world_buoys.push_back({{9.5, e}, 0.15});
+  auto rig = std::make_unique<Rig>(course3_forward_north_config());
+  add_slip_4m_to_port(*rig);
   ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/approach_slip"; }, 1.0))
       << rig->log_text();
   rig->run_for(20.0);  // held 4 m off the axis (the ILOS integral would wind up here)

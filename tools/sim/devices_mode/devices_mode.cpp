@@ -348,9 +348,8 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   DaemonProcess& daemon = *s.daemon;
   const bool switch_start = s.mission.start_mode == config::StartMode::kArduinoSwitch;
   bool switch_on = false;
-  const bool control_start = s.mission.start_mode == config::StartMode::kControl;
   std::vector<std::string> operator_commands;  // sent in order through the control socket
-  if (control_start) {
+  if (s.mission.start_mode == config::StartMode::kControl) {
     if (w.target_colour != msg::Colour::kUnknown && w.target_shape != msg::Shape::kUnknown) {
       operator_commands.push_back("target " + std::string(msg::colour_name(w.target_colour)) + " " +
                                   std::string(msg::shape_name(w.target_shape)));
