@@ -578,16 +578,16 @@ void operator_target(Rig& rig, msg::Colour colour, msg::Shape shape) {
   rig.snap->operator_input.sequence = 1;
 }
 
-TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipThenRayPursuitAndLidarStop) {
-  const config::Configuration c = three_slips_config(3.0);
+/// A rig on the way to the survey point (10 m west of the middle slip), facing the docks, whose
+/// every frame shows the three markers where the map puts them (slip 1 to starboard, slip 2,
+/// the green cross, dead ahead), run until the votes end the survey.
+std::unique_ptr<Rig> survey_seeing_the_target_at_slip_2(const config::Configuration& c) {
   auto rig = std::make_unique<Rig>(c);
   operator_target(*rig, msg::Colour::kGreen, msg::Shape::kCross);
-  // On the way to the survey point (10 m west of the middle slip), facing the docks.
   rig->position = {3.0, -8.0};
   rig->heading_deg = 90.0;
   rig->run_for(0.4);
-  ASSERT_EQ(rig->path(), "docking/survey") << rig->log_text();
-  // Every frame shows the three markers where the map puts them (slip 1 to starboard).
+  EXPECT_EQ(rig->path(), "docking/survey") << rig->log_text();
   const double side_deg = core::rad_to_deg(std::atan2(3.0, 20.0));
   for (int i = 0; i < 200 && rig->path() == "docking/survey"; ++i) {
     if (i % 5 == 0) {
@@ -598,6 +598,43 @@ TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipThenRayPursuitAndLidarStop)
     }
     rig->tick();
   }
+  return rig;
+}
+
+TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipAndTheBoatGoesStraightIn) {
+  const config::Configuration c = three_slips_config(3.0);
+  auto rig = survey_seeing_the_target_at_slip_2(c);
+  // Decided behind the decision point: straight in along the slip's axis, no stop to look.
+  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  EXPECT_TRUE(rig->logged("survey -> docking/enter_slip2: target marker at slip 2"))
+      << rig->log_text();
+  EXPECT_EQ(rig->out.status.docking_slip, 1);
+  rig->run_for(0.5);
+  EXPECT_NEAR(rig->out.viz.desired_heading_deg, 90.0, 1.0);
+  EXPECT_GT(rig->thrust_frac(), 0.0);
+  // Still behind the decision point, something 0.25 m ahead is a buoy on the way, not the
+  // slip's back: avoidance deals with it, and once it is gone the boat goes on in.
+  add_wall_ahead(rig->scan, 0.25, 0.3);
+  rig->run_for(0.5);
+  EXPECT_FALSE(rig->out.status.finished) << rig->log_text();
+  EXPECT_TRUE(rig->out.viz.has_avoidance);
+  rig->scan.clear();
+  rig->run_for(1.0);
+  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  EXPECT_GT(rig->thrust_frac(), 0.0);
+  // In the slip, its back wall 0.25 m ahead stops the boat and ends the mission.
+  rig->position = {3.0, 9.0};
+  rig->run_for(0.2);
+  add_wall_ahead(rig->scan, 0.25, 1.0);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
+  EXPECT_TRUE(rig->logged("docked in slip 2"));
+  EXPECT_TRUE(rig->neutral());
+}
+
+TEST(MissionDocking2022, WithoutLineFollowingTheDocumentsVisitTheDecisionPointThenRayPursuit) {
+  config::Configuration c = three_slips_config(3.0);
+  c.mission.waypoints.line_following = false;
+  auto rig = survey_seeing_the_target_at_slip_2(c);
   EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
   EXPECT_TRUE(rig->logged("survey -> docking/goto_slip2: target marker at slip 2"))
       << rig->log_text();
@@ -662,6 +699,28 @@ TEST(MissionDocking2022, VisitsEachSlipInTurnWhenTheSurveyCannotDecide) {
       << rig->log_text();
 }
 
+TEST(MissionDocking2022, TheSlipBeingVisitedDecidedOnTheWayIsEnteredWithoutStopping) {
+  const config::Configuration c = three_slips_config(3.0);
+  // Undecided at the survey point, on the way to slip 1 (3 m to starboard of the bow's line):
+  // then the frames show the target at slip 1.
+  auto rig = undecided_at_survey_point(c);
+  ASSERT_TRUE(rig);
+  const double side_deg = core::rad_to_deg(std::atan2(3.0, 12.0));
+  for (int i = 0; i < 200 && rig->path() == "docking/goto_slip1"; ++i) {
+    if (i % 5 == 0) {
+      rig->camera(
+          {detection(msg::Colour::kGreen, msg::Shape::kCross, static_cast<float>(side_deg)),
+           detection(msg::Colour::kRed, msg::Shape::kTriangle, 0.0F),
+           detection(msg::Colour::kBlue, msg::Shape::kCircle, static_cast<float>(-side_deg))});
+    }
+    rig->tick();
+  }
+  EXPECT_EQ(rig->path(), "docking/enter_slip1") << rig->log_text();
+  EXPECT_TRUE(rig->logged("goto_slip1 -> docking/enter_slip1: target marker at slip 1"))
+      << rig->log_text();
+  EXPECT_FALSE(rig->logged("face_slip1")) << rig->log_text();
+}
+
 TEST(MissionDocking2022, FromBehindTheBoatJoinsTheSlipAxisByLineOfSightAndArrivesAbeam) {
   const config::Configuration c = three_slips_config(3.0);
   const double decision_east = 10.0 - c.mission.docking.decision_distance_m;
@@ -709,10 +768,9 @@ std::string dock_after_far_sightings(double fix_max_range_m) {
     }
     rig->tick();
   }
-  EXPECT_EQ(rig->path(), "docking/goto_slip2") << rig->log_text();
-  rig->position = {3.0, 10.0 - c.mission.docking.decision_distance_m};
-  EXPECT_TRUE(rig->run_until([&] { return rig->path() == "docking/enter_slip2"; }, 2.0))
-      << rig->log_text();
+  EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  rig->position = {3.0, 9.0};
+  rig->run_for(0.2);
   add_wall_ahead(rig->scan, 0.25, 1.0);
   EXPECT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0)) << rig->log_text();
   return rig->log_text();
