@@ -24,4 +24,13 @@ if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
     exit 77
   fi
 fi
-node "$work/node/live_test.mjs" "$exe" "$source_dir" "$work/run"
+# The daemon's run directory holds its control socket, whose path must fit in 107 bytes; under a
+# deep build tree it did not (a clone in /tmp/tmp.XXXXXXXXXX/c with build dir build-asan-g1).
+run=$(mktemp -d "${TMPDIR:-/tmp}/coxswain-live.XXXXXX")
+if node "$work/node/live_test.mjs" "$exe" "$source_dir" "$run"; then
+  rm -rf "$run"
+else
+  status=$?
+  echo "run directory kept: $run"
+  exit "$status"
+fi
