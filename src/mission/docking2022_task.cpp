@@ -123,9 +123,8 @@ class Docking2022Task final : public AvoidingTask {
         out.steer = false;
         return TaskResult::kRunning;
       case Phase::kGoto:
-        if (target_slip_ && *target_slip_ != slip_) return goto_target(ctx, out);
-        // The slip being visited decided on the way: in at once (goto_target).
-        if (target_slip_ && line_following_ && behind_decision_m(ctx, slip_) >= 0.0) {
+        // Another slip decided, or this one while still short of its decision point.
+        if (target_slip_ && (*target_slip_ != slip_ || straight_in(ctx, slip_))) {
           return goto_target(ctx, out);
         }
         if (to_decision_point(ctx, out)) return TaskResult::kRunning;
@@ -236,8 +235,7 @@ class Docking2022Task final : public AvoidingTask {
   [[nodiscard]] std::optional<double> sideways_fix(const TaskContext& ctx, std::size_t j,
                                                    double bearing_body_deg) const {
     const core::NavPoint boat = corrected(ctx.pose.position);
-    const double ahead_m = (markers_[j].north_m - boat.north_m) * axis_.north_m +
-                           (markers_[j].east_m - boat.east_m) * axis_.east_m;
+    const double ahead_m = along_axis_m(boat, markers_[j]);
     const double sight_deg =
         core::angle_diff_deg(ctx.pose.heading_deg + bearing_body_deg, dock_heading_deg_);
     // Close in, the marker fills the frame and its centre is no longer a sharp fix.
@@ -276,8 +274,7 @@ class Docking2022Task final : public AvoidingTask {
     const core::NavPoint goal = decision_[slip_];
     if (!approach_chosen_) {
       approach_chosen_ = true;
-      const double behind_m =
-          (goal.north_m - p.north_m) * axis_.north_m + (goal.east_m - p.east_m) * axis_.east_m;
+      const double behind_m = along_axis_m(p, goal);
       // Without line following (the documents' bearing steering), always the route.
       on_axis_ = line_following_ && behind_m >= d_.line_up_distance_m + kAxisApproachMinM;
       axis_line_.reset();
@@ -324,19 +321,26 @@ class Docking2022Task final : public AvoidingTask {
     // point, only 4 m to be joined in; the boat reached it 2-3 m off and met a finger (100 runs,
     // seeds 1-100: 91% / 80 clean -> 100% / 95). Without line following (the documents' bearing
     // steering), their process: visit, face, enter.
-    if (line_following_ && phase_ != Phase::kFace && behind_decision_m(ctx, i) >= 0.0) {
-      return enter_slip(ctx, i, why);
-    }
+    if (phase_ != Phase::kFace && straight_in(ctx, i)) return enter_slip(ctx, i, why);
     goto_slip(i, why);
     out.steer = false;
     return TaskResult::kRunning;
   }
 
+  /// How far `to` lies beyond `from` along the slips' axis.
+  [[nodiscard]] double along_axis_m(core::NavPoint from, core::NavPoint to) const {
+    return (to.north_m - from.north_m) * axis_.north_m + (to.east_m - from.east_m) * axis_.east_m;
+  }
+
   /// How far the boat is behind slip `i`'s decision point, along the slips' axis.
   [[nodiscard]] double behind_decision_m(const TaskContext& ctx, std::size_t i) const {
-    const core::NavPoint p = corrected(ctx.pose.position);
-    return (decision_[i].north_m - p.north_m) * axis_.north_m +
-           (decision_[i].east_m - p.east_m) * axis_.east_m;
+    return along_axis_m(corrected(ctx.pose.position), decision_[i]);
+  }
+
+  /// Whether slip `i`, once decided, is entered from where the boat is, without its decision
+  /// point: with line following, from anywhere short of that point.
+  [[nodiscard]] bool straight_in(const TaskContext& ctx, std::size_t i) const {
+    return line_following_ && behind_decision_m(ctx, i) >= 0.0;
   }
 
   TaskResult enter_slip(const TaskContext& ctx, std::size_t i, const ReasonText& why) {

@@ -578,6 +578,21 @@ void operator_target(Rig& rig, msg::Colour colour, msg::Shape shape) {
   rig.snap->operator_input.sequence = 1;
 }
 
+/// Ticks `rig` while its state path is `path` (at most `ticks`), every fifth tick a camera frame
+/// showing the three dock markers (red triangle, green cross, blue circle) at these bearings.
+void show_dock_markers(Rig& rig, const std::string& path, double red_deg, double green_deg,
+                       double blue_deg, int ticks = 200) {
+  for (int i = 0; i < ticks && rig.path() == path; ++i) {
+    if (i % 5 == 0) {
+      rig.camera(
+          {detection(msg::Colour::kRed, msg::Shape::kTriangle, static_cast<float>(red_deg)),
+           detection(msg::Colour::kGreen, msg::Shape::kCross, static_cast<float>(green_deg)),
+           detection(msg::Colour::kBlue, msg::Shape::kCircle, static_cast<float>(blue_deg))});
+    }
+    rig.tick();
+  }
+}
+
 /// A rig on the way to the survey point (10 m west of the middle slip), facing the docks, whose
 /// every frame shows the three markers where the map puts them (slip 1 to starboard, slip 2,
 /// the green cross, dead ahead), run until the votes end the survey.
@@ -589,15 +604,7 @@ std::unique_ptr<Rig> survey_seeing_the_target_at_slip_2(const config::Configurat
   rig->run_for(0.4);
   EXPECT_EQ(rig->path(), "docking/survey") << rig->log_text();
   const double side_deg = core::rad_to_deg(std::atan2(3.0, 20.0));
-  for (int i = 0; i < 200 && rig->path() == "docking/survey"; ++i) {
-    if (i % 5 == 0) {
-      rig->camera(
-          {detection(msg::Colour::kRed, msg::Shape::kTriangle, static_cast<float>(side_deg)),
-           detection(msg::Colour::kGreen, msg::Shape::kCross, 0.0F),
-           detection(msg::Colour::kBlue, msg::Shape::kCircle, static_cast<float>(-side_deg))});
-    }
-    rig->tick();
-  }
+  show_dock_markers(*rig, "docking/survey", side_deg, 0.0, -side_deg);
   return rig;
 }
 
@@ -706,15 +713,7 @@ TEST(MissionDocking2022, TheSlipBeingVisitedDecidedOnTheWayIsEnteredWithoutStopp
   auto rig = undecided_at_survey_point(c);
   ASSERT_TRUE(rig);
   const double side_deg = core::rad_to_deg(std::atan2(3.0, 12.0));
-  for (int i = 0; i < 200 && rig->path() == "docking/goto_slip1"; ++i) {
-    if (i % 5 == 0) {
-      rig->camera(
-          {detection(msg::Colour::kGreen, msg::Shape::kCross, static_cast<float>(side_deg)),
-           detection(msg::Colour::kRed, msg::Shape::kTriangle, 0.0F),
-           detection(msg::Colour::kBlue, msg::Shape::kCircle, static_cast<float>(-side_deg))});
-    }
-    rig->tick();
-  }
+  show_dock_markers(*rig, "docking/goto_slip1", 0.0, side_deg, -side_deg);
   EXPECT_EQ(rig->path(), "docking/enter_slip1") << rig->log_text();
   EXPECT_TRUE(rig->logged("goto_slip1 -> docking/enter_slip1: target marker at slip 1"))
       << rig->log_text();
@@ -754,20 +753,11 @@ std::string dock_after_far_sightings(double fix_max_range_m) {
   rig->position = {3.0, -12.0};
   rig->heading_deg = 90.0;
   rig->run_for(0.4);
-  const msg::Colour colours[] = {msg::Colour::kRed, msg::Colour::kGreen, msg::Colour::kBlue};
-  const msg::Shape shapes[] = {msg::Shape::kTriangle, msg::Shape::kCross, msg::Shape::kCircle};
-  for (int i = 0; i < 400 && rig->path() == "docking/survey"; ++i) {
-    if (i % 5 == 0) {
-      std::array<float, 3> b{};
-      for (std::size_t k = 0; k < b.size(); ++k) {  // markers at (3k, 12), from (4, -12), bow east
-        b[k] = static_cast<float>(
-            core::rad_to_deg(std::atan2(24.0, 3.0 * static_cast<double>(k) - 4.0)) - 90.0);
-      }
-      rig->camera({detection(colours[0], shapes[0], b[0]), detection(colours[1], shapes[1], b[1]),
-                   detection(colours[2], shapes[2], b[2])});
-    }
-    rig->tick();
+  std::array<double, 3> b{};
+  for (std::size_t k = 0; k < b.size(); ++k) {  // markers at (3k, 12), from (4, -12), bow east
+    b[k] = core::rad_to_deg(std::atan2(24.0, 3.0 * static_cast<double>(k) - 4.0)) - 90.0;
   }
+  show_dock_markers(*rig, "docking/survey", b[0], b[1], b[2], 400);
   EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
   rig->position = {3.0, 9.0};
   rig->run_for(0.2);
