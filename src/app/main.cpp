@@ -19,6 +19,7 @@
 #include "coxswain/app/logging.hpp"
 #include "coxswain/app/run_dir.hpp"
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/reference.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "coxswain/live/control_protocol.hpp"
 #include "coxswain/replay/command.hpp"
@@ -167,6 +168,20 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check-config", "Validate config files without running");
   std::vector<std::string> check_files;
   check->add_option("files", check_files, "YAML files to validate")->required();
+  auto* config_cmd = app.add_subcommand(
+      "config",
+      "Describe the configuration: every parameter (doc), a kind's JSON Schema, the list");
+  config_cmd->require_subcommand(1);
+  auto* config_doc = config_cmd->add_subcommand("doc", "Print the parameter reference (Markdown)");
+  auto* config_schema = config_cmd->add_subcommand("schema", "Print a config kind's JSON Schema");
+  std::string schema_kind;
+  config_schema->add_option("kind", schema_kind, "boat, devices or mission")
+      ->required()
+      ->check(CLI::IsMember({"boat", "devices", "mission"}));
+  auto* config_params =
+      config_cmd->add_subcommand("params", "Print every parameter with its bounds as JSON");
+  bool params_json = false;
+  config_params->add_flag("--json", params_json, "JSON (the only format; kept for tools)");
   auto* replay = app.add_subcommand(
       "replay",
       "Re-run the mission core on a recording and compare every decision (exit 0 "
@@ -191,6 +206,18 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (check->parsed()) return check_config(check_files);
+  if (config_doc->parsed()) {
+    std::cout << coxswain::config::parameter_reference_markdown();
+    return 0;
+  }
+  if (config_schema->parsed()) {
+    std::cout << coxswain::config::json_schema(schema_kind).value_or("");
+    return 0;
+  }
+  if (config_params->parsed()) {
+    std::cout << coxswain::config::parameters_json();
+    return 0;
+  }
   if (decode->parsed()) {
     const auto format = coxswain::app::parse_capture_format(decode_device);
     if (!format) return kExitConfig;  // CLI11 already checked the name

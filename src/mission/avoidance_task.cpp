@@ -28,7 +28,7 @@ class AvoidanceTask final : public AvoidingTask {
         leg_(m.waypoints, to_route(t.waypoints, frame)),
         course1_(course1),
         c1_(m.course1),
-        cruise_(m.cruise_thrust_frac) {}
+        cruise_(m.speed.cruise_thrust_frac) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
 

@@ -103,19 +103,19 @@ double age_ms(const core::TimeNs age_ns) {
 struct MissionCore::Impl {
   enum class Top : std::uint8_t { kWaitForStart, kActive, kFinished };
 
-  explicit Impl(const config::Configuration& c)
-      : m(c.mission),
-        camera_timeout_ms(c.devices.camera.timeout_ms),
-        gnss_mount(c.boat.mounts.gnss),
-        frame(c.mission.origin),
-        mixer(mixer_config(c.boat.actuators)),
-        pid(c.mission.heading_pid),
-        schedule(c.mission.speed),
-        ramp({c.mission.speed.rise_per_s, c.mission.speed.fall_per_s}),
-        heading_filter({c.mission.navigation.heading_filter_tau_s}),
-        calibration(c.mission.gps_calibration, core::NavPoint{}),
-        position_filter({c.mission.navigation.position_gain}),
-        clusterer(c.mission.clustering) {
+  Impl(const config::BoatConfig& boat, const config::MissionConfig& mission)
+      : m(mission),
+        camera_timeout_ms(mission.camera_stale_ms),
+        gnss_mount(boat.mounts.gnss),
+        frame(mission.origin),
+        mixer(mixer_config(boat.actuators)),
+        pid(mission.heading_pid),
+        schedule(mission.speed),
+        ramp({mission.speed.rise_per_s, mission.speed.fall_per_s}),
+        heading_filter({mission.navigation.heading_filter_tau_s}),
+        calibration(mission.gps_calibration, core::NavPoint{}),
+        position_filter({mission.navigation.position_gain}),
+        clusterer(mission.clustering) {
     if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
     if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
     if (auto e = m.gps_calibration.validate()) throw std::invalid_argument(*e);
@@ -123,7 +123,7 @@ struct MissionCore::Impl {
     if (m.tasks.empty()) throw std::invalid_argument("mission has no tasks");
     tasks.reserve(m.tasks.size());
     for (const auto& t : m.tasks) {
-      tasks.push_back(detail::make_task(t, m, c.devices, frame));
+      tasks.push_back(detail::make_task(t, m, frame));
       needs_union |= tasks.back()->needs();
     }
     status.task_count = static_cast<std::uint32_t>(tasks.size());
@@ -631,8 +631,8 @@ struct MissionCore::Impl {
   double course_zero_deg = 0.0;
 };
 
-MissionCore::MissionCore(const config::Configuration& config)
-    : impl_(std::make_unique<Impl>(config)) {}
+MissionCore::MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission)
+    : impl_(std::make_unique<Impl>(boat, mission)) {}
 MissionCore::~MissionCore() = default;
 MissionCore::MissionCore(MissionCore&&) noexcept = default;
 MissionCore& MissionCore::operator=(MissionCore&&) noexcept = default;

@@ -105,9 +105,7 @@ ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m) {
 }
 
 std::unique_ptr<Task> make_task(const config::TaskConfig& task, const config::MissionConfig& m,
-                                const config::DevicesConfig& devices,
                                 const core::LocalFrame& frame) {
-  (void)devices;
   switch (task.type) {
     case config::TaskType::kHopping:
       return make_hopping_task(task, m, frame);

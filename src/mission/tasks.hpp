@@ -118,7 +118,6 @@ class Task {
 /// Builds the task for one TaskConfig (navigation points through `frame`). Throws
 /// std::invalid_argument on invalid engine parameters.
 std::unique_ptr<Task> make_task(const config::TaskConfig& task, const config::MissionConfig& m,
-                                const config::DevicesConfig& devices,
                                 const core::LocalFrame& frame);
 
 /// Formats into a ReasonText without allocating (printf-style).

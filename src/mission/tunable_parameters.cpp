@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/mission/tunable_parameters.hpp"
 
+#include "coxswain/config/param_tables.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -9,139 +11,68 @@
 namespace coxswain::mission {
 namespace {
 
-// A double field of one group, by member pointers (outer struct member, then its field).
-template <class Outer, class Field>
-TunableSpec real(std::string name, TunableGroup group, double min, double max,
-                 Outer TunableParameters::*outer, Field Outer::*field) {
-  return {
-      std::move(name),
-      group,
-      min,
-      max,
-      false,
-      [outer, field](const TunableParameters& p) { return static_cast<double>(p.*outer.*field); },
-      [outer, field](TunableParameters& p, double v) { p.*outer.*field = static_cast<Field>(v); }};
-}
-
-// A whole-number field (unsigned counts, enums) of one group.
-template <class Outer, class Field>
-TunableSpec whole(std::string name, TunableGroup group, double min, double max,
-                  Outer TunableParameters::*outer, Field Outer::*field) {
-  TunableSpec s = real(std::move(name), group, min, max, outer, field);
-  s.integer = true;
-  return s;
-}
-
-// An enum field, stored as its underlying value.
-template <class Outer, class Enum>
-TunableSpec enumerated(std::string name, TunableGroup group, double max,
-                       Outer TunableParameters::*outer, Enum Outer::*field) {
-  return {std::move(name),
-          group,
-          0.0,
-          max,
-          true,
-          [outer, field](const TunableParameters& p) {
-            return static_cast<double>(static_cast<int>(p.*outer.*field));
-          },
-          [outer, field](TunableParameters& p, double v) {
-            p.*outer.*field = static_cast<Enum>(static_cast<int>(v));
-          }};
+// Every live row of one struct's table, as named parameters of `group` ("section.key").
+template <class S>
+void add_live_rows(std::vector<TunableSpec>& out, std::string_view section, TunableGroup group,
+                   S TunableParameters::*member) {
+  for (const core::ParamSpec<S>& row : config::param_table<S>()) {
+    if (!row.live) continue;
+    const core::ParamSpec<S>* spec = &row;  // tables are static: the pointer stays valid
+    TunableSpec t;
+    t.name = std::string(section) + "." + std::string(row.key);
+    t.group = group;
+    t.min = row.min;
+    t.max = row.max;
+    t.integer = row.type != core::ParamType::kReal;
+    t.unit = std::string(row.unit);
+    t.doc = std::string(row.doc);
+    if (row.type == core::ParamType::kEnum) {
+      t.max = 0.0;
+      for (const core::ParamChoice& c : row.choices) {
+        if (!c.live) continue;
+        t.choices.emplace_back(c.name);
+        if (static_cast<double>(c.value) > t.max) t.max = static_cast<double>(c.value);
+      }
+    }
+    t.get = [member, spec](const TunableParameters& p) { return spec->get(p.*member); };
+    t.set = [member, spec](TunableParameters& p, double v) { spec->set(p.*member, v); };
+    out.push_back(std::move(t));
+  }
 }
 
 // One bound of a colour's HSV range in the camera detectors' parameters.
 TunableSpec hsv(msg::Colour colour, const char* bound, double max,
                 std::uint8_t perception::HsvRange::*field) {
   std::string name = "vision." + std::string(msg::colour_name(colour)) + "." + bound;
-  return {
-      std::move(name),
-      TunableGroup::kVision,
-      0.0,
-      max,
-      true,
-      [colour, field](const TunableParameters& p) {
-        const int i = p.vision.find_colour(colour);
-        return i < 0
-                   ? std::nan("")
-                   : static_cast<double>(p.vision.colours[static_cast<std::size_t>(i)].hsv.*field);
-      },
-      [colour, field](TunableParameters& p, double v) {
-        const int i = p.vision.find_colour(colour);
-        if (i >= 0) {
-          p.vision.colours[static_cast<std::size_t>(i)].hsv.*field = static_cast<std::uint8_t>(v);
-        }
-      }};
+  TunableSpec t;
+  t.name = std::move(name);
+  t.group = TunableGroup::kVision;
+  t.min = 0.0;
+  t.max = max;
+  t.integer = true;
+  t.doc = "HSV box bound (OpenCV 8-bit: hue 0-179, saturation and value 0-255)";
+  t.get = [colour, field](const TunableParameters& p) {
+    const int i = p.vision.find_colour(colour);
+    return i < 0 ? std::nan("")
+                 : static_cast<double>(p.vision.colours[static_cast<std::size_t>(i)].hsv.*field);
+  };
+  t.set = [colour, field](TunableParameters& p, double v) {
+    const int i = p.vision.find_colour(colour);
+    if (i >= 0) {
+      p.vision.colours[static_cast<std::size_t>(i)].hsv.*field = static_cast<std::uint8_t>(v);
+    }
+  };
+  return t;
 }
 
 std::vector<TunableSpec> build_specs() {
   using G = TunableGroup;
   using P = TunableParameters;
-  using control::HeadingPidParams;
-  using control::SpeedScheduleParams;
-  using guidance::AvoidanceParams;
-  using perception::LidarClusterParams;
   std::vector<TunableSpec> s;
-  // Heading PID (turn command per degree of heading error).
-  s.push_back(real("heading_pid.kp_per_deg", G::kHeadingPid, 0.0, 1.0, &P::heading_pid,
-                   &HeadingPidParams::kp_per_deg));
-  s.push_back(real("heading_pid.ki_per_deg_s", G::kHeadingPid, 0.0, 0.5, &P::heading_pid,
-                   &HeadingPidParams::ki_per_deg_s));
-  s.push_back(real("heading_pid.kd_per_dps", G::kHeadingPid, 0.0, 1.0, &P::heading_pid,
-                   &HeadingPidParams::kd_per_dps));
-  s.push_back(real("heading_pid.output_limit", G::kHeadingPid, 0.05, 1.0, &P::heading_pid,
-                   &HeadingPidParams::output_limit));
-  s.push_back(real("heading_pid.integral_limit", G::kHeadingPid, 0.0, 1.0, &P::heading_pid,
-                   &HeadingPidParams::integral_limit));
-  // Lidar clustering.
-  s.push_back(real("clustering.group_gap_m", G::kClustering, 0.01, 2.0, &P::clustering,
-                   &LidarClusterParams::group_gap_m));
-  s.push_back(real("clustering.group_gap_per_m", G::kClustering, 0.0, 0.5, &P::clustering,
-                   &LidarClusterParams::group_gap_per_m));
-  s.push_back(whole("clustering.min_group_points", G::kClustering, 1.0, 100.0, &P::clustering,
-                    &LidarClusterParams::min_group_points));
-  s.push_back(real("clustering.split_distance_m", G::kClustering, 0.01, 2.0, &P::clustering,
-                   &LidarClusterParams::split_distance_m));
-  s.push_back(real("clustering.wall_min_length_m", G::kClustering, 0.05, 10.0, &P::clustering,
-                   &LidarClusterParams::wall_min_length_m));
-  s.push_back(real("clustering.max_range_m", G::kClustering, 1.0, 40.0, &P::clustering,
-                   &LidarClusterParams::max_range_m));
-  // Avoidance (strategy: 0 selection, 1 score, 2 risk_bin; all_blocked: 0 stop, 1 back_off).
-  const auto av = [&](const char* field, double min, double max, double AvoidanceParams::*m) {
-    s.push_back(real(std::string("avoidance.") + field, G::kAvoidance, min, max, &P::avoidance, m));
-  };
-  s.push_back(enumerated("avoidance.strategy", G::kAvoidance, 2.0, &P::avoidance,
-                         &AvoidanceParams::strategy));
-  av("detection_range_m", 0.5, 30.0, &AvoidanceParams::detection_range_m);
-  av("half_beam_m", 0.0, 2.0, &AvoidanceParams::half_beam_m);
-  av("clearance_m", 0.0, 2.0, &AvoidanceParams::clearance_m);
-  av("slow_down_range_m", 0.1, 20.0, &AvoidanceParams::slow_down_range_m);
-  av("min_speed_factor", 0.0, 1.0, &AvoidanceParams::min_speed_factor);
-  av("shrink_factor", 0.05, 0.95, &AvoidanceParams::shrink_factor);
-  av("min_detection_range_m", 0.1, 30.0, &AvoidanceParams::min_detection_range_m);
-  av("blocked_speed_factor", 0.0, 1.0, &AvoidanceParams::blocked_speed_factor);
-  s.push_back(enumerated("avoidance.all_blocked", G::kAvoidance, 1.0, &P::avoidance,
-                         &AvoidanceParams::all_blocked_policy));
-  av("back_off_speed_factor", 0.0, 1.0, &AvoidanceParams::back_off_speed_factor);
-  av("hysteresis_deg", 0.0, 90.0, &AvoidanceParams::hysteresis_deg);
-  av("hold_time_s", 0.0, 10.0, &AvoidanceParams::hold_time_s);
-  av("score_goal_weight", 0.01, 10.0, &AvoidanceParams::score_goal_weight);
-  av("score_distance_weight", 0.0, 10.0, &AvoidanceParams::score_distance_weight);
-  av("score_angle_weight", 0.0, 10.0, &AvoidanceParams::score_angle_weight);
-  av("score_block_range_m", 0.0, 30.0, &AvoidanceParams::score_block_range_m);
-  av("risk_gain_per_m", 0.01, 20.0, &AvoidanceParams::risk_gain_per_m);
-  av("risk_offset", -10.0, 10.0, &AvoidanceParams::risk_offset);
-  av("risk_max", 0.001, 1000.0, &AvoidanceParams::risk_max);
-  av("risk_threshold", 1e-6, 100.0, &AvoidanceParams::risk_threshold);
-  // Speed schedule (thrust fraction by distance to go, then the rise/fall rate limit).
-  const auto sp = [&](const char* field, double min, double max, double SpeedScheduleParams::*m) {
-    s.push_back(real(std::string("speed.") + field, G::kSpeed, min, max, &P::speed, m));
-  };
-  sp("min_thrust_frac", 0.0, 1.0, &SpeedScheduleParams::min_thrust_frac);
-  sp("max_thrust_frac", 0.0, 1.0, &SpeedScheduleParams::max_thrust_frac);
-  sp("slow_distance_m", 0.0, 50.0, &SpeedScheduleParams::slow_distance_m);
-  sp("fast_distance_m", 0.0, 100.0, &SpeedScheduleParams::fast_distance_m);
-  sp("rise_per_s", 0.01, 10.0, &SpeedScheduleParams::rise_per_s);
-  sp("fall_per_s", 0.01, 10.0, &SpeedScheduleParams::fall_per_s);
+  add_live_rows(s, "heading_pid", G::kHeadingPid, &P::heading_pid);
+  add_live_rows(s, "clustering", G::kClustering, &P::clustering);
+  add_live_rows(s, "avoidance", G::kAvoidance, &P::avoidance);
+  add_live_rows(s, "speed", G::kSpeed, &P::speed);
   // Vision: the HSV box of every colour the detectors search (OpenCV 8-bit: hue 0..179,
   // saturation and value 0..255; h_min > h_max wraps through 180, as red does).
   const perception::VisionParams vision = perception::VisionParams::defaults();

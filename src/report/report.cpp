@@ -412,7 +412,7 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
   // force before it (the first set against the configuration's).
   std::string parameter_rows;
   if (!recording.parameter_sets.empty()) {
-    const mission::MissionCore initial(config);
+    const mission::MissionCore initial(config.boat, config.mission);
     std::map<std::string, double> in_force;
     for (const mission::TunableSpec& spec : mission::tunable_specs()) {
       in_force[spec.name] = spec.get(initial.parameters());

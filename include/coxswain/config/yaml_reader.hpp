@@ -6,6 +6,8 @@
 // nothing here throws to the caller; errors are collected and reported together.
 #include <yaml-cpp/yaml.h>
 
+#include "coxswain/config/config_errors.hpp"
+
 #include <cstddef>
 #include <limits>
 #include <optional>
@@ -17,28 +19,6 @@
 #include <vector>
 
 namespace coxswain::config {
-
-struct ConfigIssue {
-  std::string file;
-  int line = 0;  // 1-based; 0 = whole file
-  std::string key;
-  std::string message;
-  [[nodiscard]] std::string to_string() const;
-};
-
-/// Collected problems of one validation pass. Not thread-safe (used during start-up only).
-class ConfigErrors {
- public:
-  void add(ConfigIssue issue) { issues_.push_back(std::move(issue)); }
-  [[nodiscard]] bool empty() const { return issues_.empty(); }
-  [[nodiscard]] std::size_t size() const { return issues_.size(); }
-  [[nodiscard]] const std::vector<ConfigIssue>& issues() const { return issues_; }
-  /// One issue per line.
-  [[nodiscard]] std::string format() const;
-
- private:
-  std::vector<ConfigIssue> issues_;
-};
 
 /// Inclusive numeric bounds for a value; unset ends are open.
 template <class T>

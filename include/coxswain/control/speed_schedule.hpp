@@ -18,6 +18,7 @@ struct SpeedScheduleParams {
   double fast_distance_m = 12.0;
   double rise_per_s = 0.2;  // thrust increase limit, fraction per second
   double fall_per_s = 0.5;  // thrust decrease limit, fraction per second
+  double cruise_thrust_frac = 0.7;  // avoidance tasks, before the avoidance speed factor
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };

@@ -14,7 +14,8 @@
 #include <string>
 #include <string_view>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/boat_config.hpp"
+#include "coxswain/config/mission_config.hpp"
 #include "coxswain/control/heading_pid.hpp"
 #include "coxswain/control/speed_schedule.hpp"
 #include "coxswain/core/frames.hpp"
@@ -170,7 +171,7 @@ struct TunableParameters {
 /// with a monotonic `now_ns`. Not thread-safe: one owner, the tick thread.
 class MissionCore {
  public:
-  explicit MissionCore(const config::Configuration& config);
+  MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission);
   ~MissionCore();
   MissionCore(const MissionCore&) = delete;
   MissionCore& operator=(const MissionCore&) = delete;

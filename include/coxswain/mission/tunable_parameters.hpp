@@ -24,16 +24,19 @@ enum class TunableGroup : std::uint8_t {
   kVision
 };
 
-/// One named parameter, e.g. "heading_pid.kp_per_deg", "avoidance.clearance_m",
-/// "vision.red.h_min". Values travel as doubles; `integer` ones must be whole numbers. Ranges are
-/// what the engines accept and what makes physical sense on a 2 m boat; anything wider is a typo
-/// on a phone, not a tuning.
+/// One named parameter, e.g. "heading_pid.kp_per_deg", "avoidance.score.goal_weight",
+/// "vision.red.h_min": the live rows of the parameter tables (config/param_tables.hpp), named
+/// as in the mission file, with the tables' bounds. Values travel as doubles; `integer` ones
+/// (counts, booleans, enumerations) must be whole numbers.
 struct TunableSpec {
   std::string name;
   TunableGroup group = TunableGroup::kHeadingPid;
   double min = 0.0;
   double max = 0.0;
   bool integer = false;
+  std::string unit;                  // "" when dimensionless
+  std::string doc;                   // one line
+  std::vector<std::string> choices;  // an enumeration's names, by value (0, 1, ...)
   std::function<double(const TunableParameters&)> get;
   std::function<void(TunableParameters&, double)> set;
 };

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/yaml_reader.hpp"
 
 namespace coxswain::config {
 namespace {
@@ -65,7 +66,7 @@ TEST(MissionEngines, SectionsReachTheEngineParameters) {
   EXPECT_EQ(m.clustering.min_group_points, 6U);
   EXPECT_DOUBLE_EQ(m.clustering.hull.forward_min_m, -1.0);
   EXPECT_DOUBLE_EQ(m.heading_pid.kp_per_deg, 0.03);
-  EXPECT_DOUBLE_EQ(m.cruise_thrust_frac, 0.5);
+  EXPECT_DOUBLE_EQ(m.speed.cruise_thrust_frac, 0.5);
   EXPECT_DOUBLE_EQ(m.speed.rise_per_s, 0.1);
   EXPECT_DOUBLE_EQ(m.waypoints.arrival_radius_m, 1.2);
   EXPECT_DOUBLE_EQ(m.waypoints.line.lookahead_m, 3.0);

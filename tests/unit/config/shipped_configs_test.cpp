@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/yaml_reader.hpp"
 #include "support/testdata.hpp"
 
 namespace coxswain::config {

@@ -994,7 +994,7 @@ TEST(MissionCoreConstruction, EveryShippedMissionBuildsWithTheShippedBoat) {
         config::load_devices_config((dir / "devices.yaml").string(), errors),
         config::load_mission_config(entry.path().string(), errors)};
     ASSERT_TRUE(errors.empty()) << errors.format();
-    auto core = std::make_unique<MissionCore>(c);
+    auto core = std::make_unique<MissionCore>(c.boat, c.mission);
     auto snap = std::make_unique<core::Snapshot>();
     auto out = std::make_unique<CoreOutput>();
     core->step(*snap, core::kNsPerSec, *out);
@@ -1008,7 +1008,7 @@ TEST(MissionCoreConstruction, EveryShippedMissionBuildsWithTheShippedBoat) {
 TEST(MissionCoreConstruction, InvalidEngineParametersThrow) {
   config::Configuration c = obstacle_config();
   c.mission.avoidance.fan.bin_width_deg = 7.0;  // 180 / 7 is not whole
-  EXPECT_THROW(MissionCore core(c), std::invalid_argument);
+  EXPECT_THROW(MissionCore core(c.boat, c.mission), std::invalid_argument);
 }
 
 }  // namespace

@@ -74,7 +74,10 @@ inline void add_wall_ahead(msg::LidarScan& scan, double forward_m, double half_w
 class Rig {
  public:
   explicit Rig(const config::Configuration& c)
-      : config(c), frame(c.mission.origin), core(c), snap(std::make_unique<core::Snapshot>()) {
+      : config(c),
+        frame(c.mission.origin),
+        core(c.boat, c.mission),
+        snap(std::make_unique<core::Snapshot>()) {
     arduino_autonomous();
   }
 

@@ -92,7 +92,7 @@ TEST(TunableParameters, EveryGroupIsNamedOnceAndEveryShippedMissionLiesInTheRang
         config::load_devices_config((dir / "devices.yaml").string(), errors),
         config::load_mission_config(entry.path().string(), errors)};
     ASSERT_TRUE(errors.empty()) << errors.format();
-    MissionCore core(c);
+    MissionCore core(c.boat, c.mission);
     TunableParameters p = core.parameters();
     for (const TunableSpec& spec : tunable_specs()) {
       const double v = spec.get(p);
@@ -104,7 +104,8 @@ TEST(TunableParameters, EveryGroupIsNamedOnceAndEveryShippedMissionLiesInTheRang
 }
 
 TEST(MissionCoreParameters, ApplyRejectsInvalidSetsAndKeepsTheOldOne) {
-  MissionCore core(hopping());
+  const config::Configuration hop = hopping();
+  MissionCore core(hop.boat, hop.mission);
   TunableParameters p = core.parameters();
   const double kp = p.heading_pid.kp_per_deg;
   p.heading_pid.kp_per_deg = -1.0;
@@ -134,7 +135,8 @@ TEST(MissionCoreParameters, ApplyRejectsInvalidSetsAndKeepsTheOldOne) {
 }
 
 TEST(MissionCoreParameters, FieldsWithoutANameAreNotTakenFromTheSet) {
-  MissionCore core(obstacle());
+  const config::Configuration obs = obstacle();
+  MissionCore core(obs.boat, obs.mission);
   TunableParameters p = core.parameters();
   const double fan_min = p.avoidance.fan.min_deg;
   p.avoidance.fan.min_deg = -45.0;  // not live-tunable

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "coxswain/config/config.hpp"
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/mission/mission_core.hpp"
@@ -41,7 +42,7 @@ struct Setup {
     const core::LocalFrame f(c.mission.origin);
     t.waypoints.push_back(f.to_geo({60.0, 0.0}));
     c.mission.tasks.push_back(t);
-    core = std::make_unique<MissionCore>(c);
+    core = std::make_unique<MissionCore>(c.boat, c.mission);
     snap = std::make_unique<core::Snapshot>();
     out = std::make_unique<CoreOutput>();
     auto& scan = snap->lidar.value;

@@ -9,6 +9,7 @@
 #include <string_view>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/yaml_reader.hpp"
 
 namespace coxswain::sim::dynamics {
 

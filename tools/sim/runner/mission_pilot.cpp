@@ -7,7 +7,7 @@ namespace coxswain::sim::runner {
 
 MissionPilot::MissionPilot(const config::Configuration& config)
     : mission_(config.mission),
-      core_(std::make_unique<mission::MissionCore>(config)),
+      core_(std::make_unique<mission::MissionCore>(config.boat, config.mission)),
       out_(std::make_unique<mission::CoreOutput>()) {}
 
 void MissionPilot::step(const core::Snapshot& snapshot, core::TimeNs now_ns,

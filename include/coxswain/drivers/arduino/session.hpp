@@ -35,7 +35,8 @@
 #include <span>
 #include <string_view>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/boat_config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/arduino/codec.hpp"
 #include "coxswain/drivers/device_session.hpp"

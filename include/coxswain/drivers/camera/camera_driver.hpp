@@ -21,7 +21,7 @@
 #include <string>
 #include <thread>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/latest_store.hpp"

@@ -28,7 +28,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/time.hpp"
 

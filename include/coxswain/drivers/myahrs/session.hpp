@@ -27,7 +27,7 @@
 #include <string>
 #include <string_view>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"

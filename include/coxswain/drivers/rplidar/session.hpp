@@ -28,7 +28,7 @@
 #include <memory>
 #include <span>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/device_session.hpp"

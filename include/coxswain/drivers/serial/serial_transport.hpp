@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"

@@ -36,7 +36,7 @@
 #include <span>
 #include <string_view>
 
-#include "coxswain/config/config.hpp"
+#include "coxswain/config/devices_config.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/drivers/device_session.hpp"

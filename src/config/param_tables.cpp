@@ -1,0 +1,791 @@
+// SPDX-License-Identifier: Apache-2.0
+// Every parameter of every struct, once. Bounds are what the engine accepts and what makes
+// physical sense on a 1-2 m boat; the file, live tuning and the schema all use these.
+#include "coxswain/config/param_tables.hpp"
+
+#include <array>
+
+#include "coxswain/core/time.hpp"
+
+namespace coxswain::config {
+namespace {
+
+using core::bool_param;
+using core::enum_param;
+using core::int_param;
+using core::ParamChoice;
+using core::ParamSpec;
+using core::real_param;
+using core::text_param;
+
+constexpr bool kLive = true;
+constexpr bool kFixed = false;
+constexpr double kBig = 1e6;  // "no practical limit" for lengths and times
+
+constexpr std::array kColours{
+    ParamChoice{"unknown", static_cast<int>(msg::Colour::kUnknown)},
+    ParamChoice{"red", static_cast<int>(msg::Colour::kRed)},
+    ParamChoice{"green", static_cast<int>(msg::Colour::kGreen)},
+    ParamChoice{"blue", static_cast<int>(msg::Colour::kBlue)},
+    ParamChoice{"yellow", static_cast<int>(msg::Colour::kYellow)},
+    ParamChoice{"orange", static_cast<int>(msg::Colour::kOrange)},
+    ParamChoice{"purple", static_cast<int>(msg::Colour::kPurple)},
+    ParamChoice{"black", static_cast<int>(msg::Colour::kBlack)},
+    ParamChoice{"white", static_cast<int>(msg::Colour::kWhite)},
+};
+
+// ---- engines ------------------------------------------------------------------------------
+
+using control::HeadingPidParams;
+constexpr std::array kHeadingPid{
+    real_param<HeadingPidParams, &HeadingPidParams::kp_per_deg>(
+        "kp_per_deg", "1/deg", 0.0, 1.0, kLive, "turn command per degree of heading error"),
+    real_param<HeadingPidParams, &HeadingPidParams::ki_per_deg_s>("ki_per_deg_s", "1/(deg*s)", 0.0,
+                                                                  0.5, kLive, "integral gain"),
+    real_param<HeadingPidParams, &HeadingPidParams::kd_per_dps>(
+        "kd_per_dps", "1/(deg/s)", 0.0, 1.0, kLive,
+        "derivative gain, per deg/s of the measured yaw rate"),
+    real_param<HeadingPidParams, &HeadingPidParams::output_limit>(
+        "output_limit", "", 0.05, 1.0, kLive, "limit of the turn command's magnitude"),
+    real_param<HeadingPidParams, &HeadingPidParams::integral_zone_deg>(
+        "integral_zone_deg", "deg", 1e-3, 180.0, kLive,
+        "the integral runs only within this heading error"),
+    real_param<HeadingPidParams, &HeadingPidParams::integral_limit>(
+        "integral_limit", "", 0.0, 1.0, kLive, "clamp on the integral term's contribution"),
+    real_param<HeadingPidParams, &HeadingPidParams::tracking_gain_per_s>(
+        "tracking_gain_per_s", "1/s", 0.0, 100.0, kLive,
+        "back-calculation gain that bleeds the integral while saturated"),
+    real_param<HeadingPidParams, &HeadingPidParams::derivative_tau_s>(
+        "derivative_tau_s", "s", 0.0, 10.0, kLive,
+        "low-pass of the heading-difference rate when no gyro rate is given"),
+    real_param<HeadingPidParams, &HeadingPidParams::max_dt_s>(
+        "max_dt_s", "s", 1e-3, 10.0, kLive,
+        "a longer gap between steps (a dropout) skips integration and derivative"),
+    real_param<HeadingPidParams, &HeadingPidParams::reversal_hold_deg>(
+        "reversal_hold_deg", "deg", 0.0, 89.0, kLive,
+        "near 180 deg of error, keep the turn's side unless the error crosses this much"),
+};
+
+using control::SpeedScheduleParams;
+constexpr std::array kSpeed{
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::min_thrust_frac>(
+        "min_thrust_frac", "", 0.0, 1.0, kLive, "thrust at or inside slow_distance_m"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::max_thrust_frac>(
+        "max_thrust_frac", "", 0.0, 1.0, kLive, "thrust at or beyond fast_distance_m"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::slow_distance_m>(
+        "slow_distance_m", "m", 0.0, 50.0, kLive, "distance to go below which thrust is minimal"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::fast_distance_m>(
+        "fast_distance_m", "m", 0.0, 100.0, kLive, "distance to go beyond which thrust is maximal"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::rise_per_s>(
+        "rise_per_s", "1/s", 0.01, 10.0, kLive, "thrust increase limit, fraction per second"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::fall_per_s>(
+        "fall_per_s", "1/s", 0.01, 10.0, kLive, "thrust decrease limit, fraction per second"),
+    real_param<SpeedScheduleParams, &SpeedScheduleParams::cruise_thrust_frac>(
+        "cruise_thrust_frac", "", 0.0, 1.0, kFixed,
+        "thrust of the avoidance tasks before the avoidance's speed factor"),
+};
+
+using guidance::AvoidanceParams;
+constexpr std::array kStrategies{
+    ParamChoice{"selection", static_cast<int>(guidance::Strategy::kSelection)},
+    ParamChoice{"score", static_cast<int>(guidance::Strategy::kScore)},
+    ParamChoice{"risk_bin", static_cast<int>(guidance::Strategy::kRiskBin)},
+    // The 2022 code with its defects: for comparison in the simulator, never chosen live.
+    ParamChoice{"selection_naive_2022", static_cast<int>(guidance::Strategy::kSelectionNaive2022),
+                false},
+};
+constexpr std::array kAllBlocked{
+    ParamChoice{"stop", static_cast<int>(guidance::AllBlockedPolicy::kStop)},
+    ParamChoice{"back_off", static_cast<int>(guidance::AllBlockedPolicy::kBackOff)},
+};
+constexpr std::array kAvoidance{
+    enum_param<AvoidanceParams, &AvoidanceParams::strategy>(
+        "strategy", kStrategies, kLive,
+        "bin choice: selection, score (2022 plan A), risk_bin (2026 plan) or the 2022 code "
+        "as written (simulator comparison only)"),
+    real_param<AvoidanceParams, &AvoidanceParams::fan, &guidance::AngleFan::min_deg>(
+        "fan_min_deg", "deg", -180.0, 180.0, kFixed, "first candidate heading, body frame"),
+    real_param<AvoidanceParams, &AvoidanceParams::fan, &guidance::AngleFan::max_deg>(
+        "fan_max_deg", "deg", -180.0, 180.0, kFixed, "last candidate heading, body frame"),
+    real_param<AvoidanceParams, &AvoidanceParams::fan, &guidance::AngleFan::bin_width_deg>(
+        "bin_width_deg", "deg", 0.1, 90.0, kFixed, "width of one candidate-heading bin"),
+    real_param<AvoidanceParams, &AvoidanceParams::detection_range_m>(
+        "detection_range_m", "m", 0.5, 30.0, kLive, "obstacles farther than this are ignored"),
+    real_param<AvoidanceParams, &AvoidanceParams::half_beam_m>("half_beam_m", "m", 0.0, 2.0, kLive,
+                                                               "half the hull's width"),
+    real_param<AvoidanceParams, &AvoidanceParams::clearance_m>(
+        "clearance_m", "m", 0.0, 2.0, kLive, "extra room kept on each side of the hull"),
+    real_param<AvoidanceParams, &AvoidanceParams::slow_down_range_m>(
+        "slow_down_range_m", "m", 0.1, 20.0, kLive,
+        "speed factor falls linearly from 1 at this range of the nearest obstacle"),
+    real_param<AvoidanceParams, &AvoidanceParams::min_speed_factor>(
+        "min_speed_factor", "", 0.0, 1.0, kLive, "speed factor at the nearest ranges"),
+    real_param<AvoidanceParams, &AvoidanceParams::shrink_factor>(
+        "shrink_factor", "", 0.05, 0.95, kLive,
+        "all bins blocked: range multiplier per shrinking step"),
+    real_param<AvoidanceParams, &AvoidanceParams::min_detection_range_m>(
+        "min_detection_range_m", "m", 0.1, 30.0, kLive, "the range is not shrunk below this"),
+    real_param<AvoidanceParams, &AvoidanceParams::blocked_speed_factor>(
+        "blocked_speed_factor", "", 0.0, 1.0, kLive, "speed while steering on a shrunken range"),
+    enum_param<AvoidanceParams, &AvoidanceParams::all_blocked_policy>(
+        "all_blocked", kAllBlocked, kLive,
+        "nothing safe even at the minimum range: stop, or back off"),
+    real_param<AvoidanceParams, &AvoidanceParams::back_off_speed_factor>(
+        "back_off_speed_factor", "", 0.0, 1.0, kLive, "astern speed when backing off"),
+    real_param<AvoidanceParams, &AvoidanceParams::hysteresis_deg>(
+        "hysteresis_deg", "deg", 0.0, 90.0, kLive,
+        "keep the previous side unless the other is better by this much"),
+    real_param<AvoidanceParams, &AvoidanceParams::hold_time_s>(
+        "hold_time_s", "s", 0.0, 10.0, kLive,
+        "no second side switch within this time, unless the kept side is blocked"),
+    real_param<AvoidanceParams, &AvoidanceParams::score_goal_weight>(
+        "score.goal_weight", "", 0.01, 10.0, kLive, "score: weight of the turn from the goal"),
+    real_param<AvoidanceParams, &AvoidanceParams::score_distance_weight>(
+        "score.distance_weight", "", 0.0, 10.0, kLive, "score: weight of an obstacle's nearness"),
+    real_param<AvoidanceParams, &AvoidanceParams::score_angle_weight>(
+        "score.angle_weight", "", 0.0, 10.0, kLive, "score: weight of an obstacle's bearing"),
+    real_param<AvoidanceParams, &AvoidanceParams::score_block_range_m>(
+        "score.block_range_m", "m", 0.0, 30.0, kLive,
+        "score: bins with an obstacle nearer than this are excluded"),
+    real_param<AvoidanceParams, &AvoidanceParams::risk_gain_per_m>(
+        "risk.gain_per_m", "1/m", 0.01, 20.0, kLive, "risk bins: decay of risk with range"),
+    real_param<AvoidanceParams, &AvoidanceParams::risk_offset>(
+        "risk.offset", "", -10.0, 10.0, kLive, "risk bins: offset of the exponent"),
+    real_param<AvoidanceParams, &AvoidanceParams::risk_max>("risk.max", "", 0.001, 1000.0, kLive,
+                                                            "risk bins: cap of one bin's risk"),
+    real_param<AvoidanceParams, &AvoidanceParams::risk_threshold>(
+        "risk.threshold", "", 1e-6, 100.0, kLive, "risk bins: a bin above this is unsafe"),
+    real_param<AvoidanceParams, &AvoidanceParams::naive_margin_deg>(
+        "naive_margin_deg", "deg", 0.0, 90.0, kLive,
+        "the 2022 code's fixed margin on both ends of an obstacle"),
+    bool_param<AvoidanceParams, &AvoidanceParams::sweep_enabled>(
+        "sweep.enabled", kLive, "sail each candidate turn along a predicted arc (swept hull)"),
+    real_param<AvoidanceParams, &AvoidanceParams::hull_length_m>(
+        "sweep.hull_length_m", "m", 0.1, 20.0, kLive, "swept hull: bow tip to stern"),
+    real_param<AvoidanceParams, &AvoidanceParams::bow_ahead_m>(
+        "sweep.bow_ahead_m", "m", 0.0, 5.0, kLive, "swept hull: bow tip ahead of the body origin"),
+    real_param<AvoidanceParams, &AvoidanceParams::pivot_ahead_m>(
+        "sweep.pivot_ahead_m", "m", -10.0, 10.0, kLive,
+        "swept hull: turning pivot ahead of the body origin"),
+    real_param<AvoidanceParams, &AvoidanceParams::sweep_turn_radius_m>(
+        "sweep.turn_radius_m", "m", 0.0, 50.0, kLive,
+        "swept hull: radius of the pivot's path in a hard turn"),
+    real_param<AvoidanceParams, &AvoidanceParams::sweep_clearance_m>(
+        "sweep.clearance_m", "m", 0.0, 2.0, kLive,
+        "swept hull: room kept between the hull and obstacles"),
+    real_param<AvoidanceParams, &AvoidanceParams::sweep_step_deg>(
+        "sweep.step_deg", "deg", 0.5, 45.0, kLive, "swept hull: heading step along the arc"),
+};
+
+using guidance::LineFollowParams;
+using guidance::WaypointFollowerParams;
+constexpr std::array kWaypoints{
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::arrival_radius_m>(
+        "arrival_radius_m", "m", 0.05, 100.0, kFixed, "a waypoint this near is reached"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::slip_radius_m>(
+        "slip_radius_m", "m", 0.05, 100.0, kFixed,
+        "passing a waypoint within this, moving away, also counts"),
+    bool_param<WaypointFollowerParams, &WaypointFollowerParams::line_following>(
+        "line_following", kFixed, "follow the line between waypoints (ILOS), not the bearing"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::line,
+               &LineFollowParams::lookahead_m>("lookahead_m", "m", 0.1, 100.0, kFixed,
+                                               "line of sight: look-ahead along the line"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::line,
+               &LineFollowParams::integral_gain>("integral_gain", "", 0.0, 10.0, kFixed,
+                                                 "line of sight: integral gain (0 = plain LOS)"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::line,
+               &LineFollowParams::max_integral_m>("max_integral_m", "m", 0.0, 50.0, kFixed,
+                                                  "line of sight: integral term's limit"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::line, &LineFollowParams::max_dt_s>(
+        "max_dt_s", "s", 1e-3, 10.0, kFixed, "line of sight: longer steps are not integrated"),
+};
+
+using guidance::GpsCalibrationParams;
+constexpr std::array kGpsCalibration{
+    int_param<GpsCalibrationParams, &GpsCalibrationParams::min_fixes>(
+        "min_fixes", "", 1, 256, kFixed, "fewer fixes on the start point: refuse to calibrate"),
+    int_param<GpsCalibrationParams, &GpsCalibrationParams::window>(
+        "window", "", 1, 256, kFixed, "the last this many fixes are averaged"),
+    real_param<GpsCalibrationParams, &GpsCalibrationParams::max_spread_m>(
+        "max_spread_m", "m", 1e-3, 100.0, kFixed,
+        "a fix farther than this from the mean: moving, or bad GNSS"),
+    real_param<GpsCalibrationParams, &GpsCalibrationParams::max_offset_m>(
+        "max_offset_m", "m", 1e-3, 1000.0, kFixed,
+        "a larger offset means the wrong start point or frame: refuse"),
+};
+
+using perception::HullBox;
+using perception::LidarClusterParams;
+constexpr std::array kClustering{
+    real_param<LidarClusterParams, &LidarClusterParams::group_gap_m>(
+        "group_gap_m", "m", 0.01, 2.0, kLive, "neighbouring returns closer than this group"),
+    real_param<LidarClusterParams, &LidarClusterParams::group_gap_per_m>(
+        "group_gap_per_m", "m/m", 0.0, 0.5, kLive, "group gap growth per metre of range"),
+    int_param<LidarClusterParams, &LidarClusterParams::min_group_points>(
+        "min_group_points", "", 1, 100, kLive, "smaller groups are dropped as noise"),
+    real_param<LidarClusterParams, &LidarClusterParams::split_distance_m>(
+        "split_distance_m", "m", 0.01, 2.0, kLive,
+        "a group splits where a return is this far off its chord"),
+    real_param<LidarClusterParams, &LidarClusterParams::split_distance_per_m>(
+        "split_distance_per_m", "m/m", 0.0, 0.5, kLive, "split distance growth per metre"),
+    int_param<LidarClusterParams, &LidarClusterParams::min_split_points>(
+        "min_split_points", "", 1, 4096, kLive, "groups with fewer returns are not split"),
+    real_param<LidarClusterParams, &LidarClusterParams::wall_min_length_m>(
+        "wall_min_length_m", "m", 0.05, 10.0, kLive, "a longer segment is a wall, not a buoy"),
+    real_param<LidarClusterParams, &LidarClusterParams::wall_piece_max_length_m>(
+        "wall_piece_max_length_m", "m", 0.05, 100.0, kLive,
+        "walls are cut into pieces at most this long"),
+    real_param<LidarClusterParams, &LidarClusterParams::min_range_m>(
+        "min_range_m", "m", 0.0, 10.0, kLive, "nearer returns are dropped"),
+    real_param<LidarClusterParams, &LidarClusterParams::max_range_m>(
+        "max_range_m", "m", 1.0, 40.0, kLive, "farther returns are dropped"),
+    real_param<LidarClusterParams, &LidarClusterParams::hull, &HullBox::forward_min_m>(
+        "hull_box.forward_min_m", "m", -50.0, 50.0, kLive,
+        "own-hull box (returns inside are dropped), body frame: aft end"),
+    real_param<LidarClusterParams, &LidarClusterParams::hull, &HullBox::forward_max_m>(
+        "hull_box.forward_max_m", "m", -50.0, 50.0, kLive, "own-hull box: forward end"),
+    real_param<LidarClusterParams, &LidarClusterParams::hull, &HullBox::starboard_min_m>(
+        "hull_box.starboard_min_m", "m", -50.0, 50.0, kLive, "own-hull box: port side"),
+    real_param<LidarClusterParams, &LidarClusterParams::hull, &HullBox::starboard_max_m>(
+        "hull_box.starboard_max_m", "m", -50.0, 50.0, kLive, "own-hull box: starboard side"),
+    real_param<LidarClusterParams, &LidarClusterParams::profile_bin_width_deg>(
+        "profile_bin_width_deg", "deg", 0.1, 45.0, kLive, "bin width of the range profile"),
+    bool_param<LidarClusterParams, &LidarClusterParams::line_fit>(
+        "line_fit", kLive, "fit segment ends by least squares (else the end returns)"),
+    bool_param<LidarClusterParams, &LidarClusterParams::merge_across_seam>(
+        "merge_across_seam", kLive, "join the groups either side of the scan's seam"),
+};
+
+using perception::MarkerVoteParams;
+constexpr std::array kVisionVote{
+    core::scaled_param<MarkerVoteParams>(
+        "window_s", "s", 0.05, 600.0, kFixed, "votes older than this are ignored",
+        [](const MarkerVoteParams& p) { return core::ns_to_sec(p.window_ns); },
+        [](MarkerVoteParams& p, double v) { p.window_ns = core::sec_to_ns(v); }),
+    real_param<MarkerVoteParams, &MarkerVoteParams::min_ratio>("min_ratio", "", 0.01, 1.0, kFixed,
+                                                               "hits per frame needed to decide"),
+    int_param<MarkerVoteParams, &MarkerVoteParams::min_frames>(
+        "min_frames", "", 1, 256, kFixed, "fewer frames in the window: undecided"),
+    core::scaled_param<MarkerVoteParams>(
+        "min_span_s", "s", 0.0, 600.0, kFixed, "the window must hold this much history",
+        [](const MarkerVoteParams& p) { return core::ns_to_sec(p.min_span_ns); },
+        [](MarkerVoteParams& p, double v) { p.min_span_ns = core::sec_to_ns(v); }),
+};
+
+// ---- mission settings ---------------------------------------------------------------------
+
+constexpr std::array kStartModes{
+    ParamChoice{"immediate", static_cast<int>(StartMode::kImmediate)},
+    ParamChoice{"arduino_switch", static_cast<int>(StartMode::kArduinoSwitch)},
+    ParamChoice{"control", static_cast<int>(StartMode::kControl)},
+};
+constexpr std::array kMission{
+    real_param<MissionConfig, &MissionConfig::tick_rate_hz>("tick_rate_hz", "Hz", 1.0, 1000.0,
+                                                            kFixed, "rate of the mission tick"),
+    enum_param<MissionConfig, &MissionConfig::start_mode>(
+        "start.mode", kStartModes, kFixed,
+        "what starts the mission: at once, the Arduino's start switch, or the control socket"),
+    bool_param<MissionConfig, &MissionConfig::calibrate_gps_at_start>(
+        "start.calibrate_gps", kFixed, "measure the GNSS offset on the start point"),
+    bool_param<MissionConfig, &MissionConfig::require_arduino>(
+        "start.require_arduino", kFixed,
+        "autonomy needs a live Arduino in autonomous mode (false: bench runs only)"),
+    int_param<MissionConfig, &MissionConfig::lidar_stale_ms>(
+        "stale_after_ms.lidar", "ms", 20, 60000, kFixed, "hold when no scan for this long"),
+    int_param<MissionConfig, &MissionConfig::imu_stale_ms>(
+        "stale_after_ms.imu", "ms", 20, 60000, kFixed, "hold when no IMU sample for this long"),
+    int_param<MissionConfig, &MissionConfig::gnss_stale_ms>(
+        "stale_after_ms.gnss", "ms", 20, 60000, kFixed, "hold when no usable fix for this long"),
+    int_param<MissionConfig, &MissionConfig::arduino_stale_ms>(
+        "stale_after_ms.arduino", "ms", 20, 60000, kFixed,
+        "hold when no Arduino telemetry for this long"),
+    int_param<MissionConfig, &MissionConfig::camera_stale_ms>(
+        "stale_after_ms.camera", "ms", 20, 60000, kFixed,
+        "camera detections older than this are not used"),
+};
+
+constexpr std::array kNavigation{
+    real_param<NavigationConfig, &NavigationConfig::heading_filter_tau_s>(
+        "heading_filter_tau_s", "s", 0.0, 10.0, kFixed, "low-pass of the IMU heading"),
+    real_param<NavigationConfig, &NavigationConfig::position_gain>(
+        "position_gain", "", 0.01, 1.0, kFixed,
+        "weight of each GNSS fix against the dead-reckoned estimate (1 = raw fixes)"),
+    bool_param<NavigationConfig, &NavigationConfig::start_lever_arm>(
+        "start_lever_arm", kFixed,
+        "the start point marks the body origin: remove the antenna's offset first"),
+    bool_param<NavigationConfig, &NavigationConfig::start_drift>(
+        "start_drift", kFixed, "take calibration fixes back by the drift while waiting"),
+};
+
+constexpr std::array kCourse1{
+    real_param<Course1Config, &Course1Config::turn_deg>(
+        "turn_deg", "deg", -180.0, 180.0, kFixed,
+        "turn after the first waypoint, relative to the heading there, + starboard"),
+    real_param<Course1Config, &Course1Config::search_timeout_s>(
+        "search_timeout_s", "s", 0.0, 600.0, kFixed, "then move on to course 2 anyway"),
+    real_param<Course1Config, &Course1Config::search_thrust_frac>(
+        "search_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while turning"),
+    enum_param<Course1Config, &Course1Config::buoy_colour>("buoy_colour", kColours, kFixed,
+                                                           "colour of the buoy to look for"),
+};
+
+using guidance::BuoyCirclingParams;
+constexpr std::array kCourse2{
+    enum_param<Course2Config, &Course2Config::buoy_colour>("buoy_colour", kColours, kFixed,
+                                                           "colour of the buoy to circle"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::target_bearing_deg>(
+        "target_bearing_deg", "deg", -360.0, 360.0, kFixed,
+        "body bearing to hold the buoy at (- = port)"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::target_distance_m>(
+        "target_distance_m", "m", 0.1, 100.0, kFixed, "distance to hold from the buoy"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::bearing_gain>(
+        "bearing_gain", "", 1e-3, 100.0, kFixed, "desired turn per degree of bearing error"),
+    real_param<Course2Config, &Course2Config::circling,
+               &BuoyCirclingParams::distance_gain_deg_per_m>(
+        "distance_gain_deg_per_m", "deg/m", 0.0, 1000.0, kFixed,
+        "turn toward or away from the buoy per metre of distance error"),
+    real_param<Course2Config, &Course2Config::circling,
+               &BuoyCirclingParams::max_distance_correction_deg>(
+        "max_distance_correction_deg", "deg", 0.0, 180.0, kFixed,
+        "clamp of the distance correction"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::max_turn_deg>(
+        "max_turn_deg", "deg", 0.0, 180.0, kFixed, "clamp of the desired turn per step"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::search_turn_deg>(
+        "search_turn_deg", "deg", 0.0, 180.0, kFixed,
+        "buoy not seen: keep turning this much to its side"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::complete_turn_deg>(
+        "complete_turn_deg", "deg", 1.0, 3600.0, kFixed, "accumulated turn that ends the circle"),
+    real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::max_heading_step_deg>(
+        "max_heading_step_deg", "deg", -360.0, 360.0, kFixed,
+        "a bigger heading jump between samples is a glitch, not a turn"),
+    real_param<Course2Config, &Course2Config::circling_thrust_frac>(
+        "circling_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while circling"),
+    real_param<Course2Config, &Course2Config::buoy_range_window_deg>(
+        "buoy_range_window_deg", "deg", 0.0, 45.0, kFixed,
+        "lidar bins either side of the camera bearing that range the buoy"),
+    real_param<Course2Config, &Course2Config::buoy_memory_s>(
+        "buoy_memory_s", "s", 0.0, 10.0, kFixed, "an older camera bearing is not steered on"),
+    bool_param<Course2Config, &Course2Config::lidar_tracking>(
+        "lidar_tracking", kFixed, "once seen, track the buoy with the lidar all the way round"),
+    real_param<Course2Config, &Course2Config::buoy_radius_m>(
+        "buoy_radius_m", "m", 0.0, 5.0, kFixed, "the buoy's radius (the lidar sees its near side)"),
+    real_param<Course2Config, &Course2Config::track_gate_m>(
+        "track_gate_m", "m", 1e-3, 100.0, kFixed,
+        "a lidar obstacle this near the predicted buoy is the buoy"),
+    real_param<Course2Config, &Course2Config::track_timeout_s>(
+        "track_timeout_s", "s", 0.1, 60.0, kFixed,
+        "unseen by the lidar this long: lost, search with the camera"),
+    real_param<Course2Config, &Course2Config::exit_course_deg>(
+        "exit_course_deg", "deg", -180.0, 180.0, kFixed,
+        "course-frame heading held while looking for the colour"),
+    real_param<Course2Config, &Course2Config::exit_align_deg>(
+        "exit_align_deg", "deg", 1.0, 180.0, kFixed,
+        "after the full turn, circle on until the heading is this near the exit course"),
+    real_param<Course2Config, &Course2Config::seek_thrust_frac>(
+        "seek_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while looking for the colour"),
+    real_param<Course2Config, &Course2Config::colour_timeout_s>(
+        "colour_timeout_s", "s", 0.0, 3600.0, kFixed,
+        "no colour by then: go on to the waypoint with the LED off"),
+};
+
+using guidance::DockingApproachParams;
+using guidance::SlipFinderParams;
+constexpr std::array kDocking{
+    real_param<DockingConfig, &DockingConfig::approach, &DockingApproachParams::lookahead_m>(
+        "lookahead_m", "m", 1e-3, 100.0, kFixed, "entry: aim this far ahead on the slip's axis"),
+    real_param<DockingConfig, &DockingConfig::approach, &DockingApproachParams::stop_range_m>(
+        "stop_range_m", "m", 1e-3, 100.0, kFixed, "range ahead below which the boat stops"),
+    real_param<DockingConfig, &DockingConfig::approach, &DockingApproachParams::marker_gain>(
+        "marker_gain", "", 0.0, 100.0, kFixed, "desired turn per degree of marker bearing"),
+    real_param<DockingConfig, &DockingConfig::approach,
+               &DockingApproachParams::max_marker_turn_deg>(
+        "max_marker_turn_deg", "deg", 0.0, 180.0, kFixed, "clamp of one step's marker correction"),
+    real_param<DockingConfig, &DockingConfig::approach,
+               &DockingApproachParams::ahead_half_angle_deg>(
+        "ahead_half_angle_deg", "deg", 0.5, 90.0, kFixed, "half-width of the range-ahead sector"),
+    real_param<DockingConfig, &DockingConfig::decision_distance_m>(
+        "decision_distance_m", "m", 1e-3, 100.0, kFixed,
+        "2022: where the boat stops to look, before each slip"),
+    real_param<DockingConfig, &DockingConfig::face_time_s>("face_time_s", "s", 0.1, 600.0, kFixed,
+                                                           "2022: longest look at one slip"),
+    real_param<DockingConfig, &DockingConfig::face_tolerance_deg>(
+        "face_tolerance_deg", "deg", 0.5, 90.0, kFixed,
+        "2022: votes count only when facing the slip within this"),
+    real_param<DockingConfig, &DockingConfig::marker_window_deg>(
+        "marker_window_deg", "deg", 0.5, 90.0, kFixed,
+        "2022: only markers this near the bow are the slip's"),
+    real_param<DockingConfig, &DockingConfig::approach_thrust_frac>(
+        "approach_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while entering"),
+    real_param<DockingConfig, &DockingConfig::open_window_deg>(
+        "open_window_deg", "deg", 0.0, 45.0, kFixed,
+        "2026: a direction's range is the minimum over this either side"),
+    real_param<DockingConfig, &DockingConfig::open_max_range_m>(
+        "open_max_range_m", "m", 1e-3, 100.0, kFixed,
+        "2026: ranges are capped here (no return = this far)"),
+    real_param<DockingConfig, &DockingConfig::survey_distance_m>(
+        "survey_distance_m", "m", 1e-3, 100.0, kFixed,
+        "2022: look at every marker from this far before the slips"),
+    real_param<DockingConfig, &DockingConfig::slip_depth_m>(
+        "slip_depth_m", "m", 0.0, 20.0, kFixed,
+        "2022: markers hang on the back wall this far inside"),
+    real_param<DockingConfig, &DockingConfig::turn_thrust_frac>(
+        "turn_thrust_frac", "", 0.0, 1.0, kFixed,
+        "2022: thrust while turning to face a slip (no thrust, no rudder)"),
+    real_param<DockingConfig, &DockingConfig::line_up_distance_m>(
+        "line_up_distance_m", "m", 0.0, 50.0, kFixed,
+        "2022: approach a decision point from this far behind it on the axis"),
+    real_param<DockingConfig, &DockingConfig::axis_lookahead_m>(
+        "axis_lookahead_m", "m", 1e-3, 100.0, kFixed,
+        "2022: line of sight along a slip's axis toward its decision point"),
+    real_param<DockingConfig, &DockingConfig::marker_fix_gain>(
+        "marker_fix_gain", "", 0.0, 1.0, kFixed,
+        "2022: weight of each frame's camera fix of the axis"),
+    real_param<DockingConfig, &DockingConfig::marker_fix_max_range_m>(
+        "marker_fix_max_range_m", "m", 1e-3, 100.0, kFixed,
+        "2022: markers farther ahead do not fix the axis"),
+    real_param<DockingConfig, &DockingConfig::max_marker_fix_m>(
+        "max_marker_fix_m", "m", 0.0, 10.0, kFixed,
+        "2022: largest sideways correction of the slip's axis"),
+    real_param<DockingConfig, &DockingConfig::slip_match_m>(
+        "slip_match_m", "m", 1e-3, 100.0, kFixed,
+        "2022: a lidar mouth this near where the map puts the slip is that slip"),
+    real_param<DockingConfig, &DockingConfig::commit_range_m>(
+        "commit_range_m", "m", 1e-3, 100.0, kFixed,
+        "2026: mouth nearer than this: hold the slip's axis"),
+    real_param<DockingConfig, &DockingConfig::sweep_wall_range_m>(
+        "sweep_wall_range_m", "m", 1e-3, 100.0, kFixed,
+        "2026: far wall this near and no slip: sweep along it"),
+    real_param<DockingConfig, &DockingConfig::sweep_standoff_m>(
+        "sweep_standoff_m", "m", 1e-3, 100.0, kFixed,
+        "2026: distance kept from the far wall while sweeping"),
+    real_param<DockingConfig, &DockingConfig::sweep_turn_back_m>(
+        "sweep_turn_back_m", "m", 1e-3, 100.0, kFixed,
+        "2026: a side wall this near turns the sweep back"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::min_width_m>(
+        "slip_min_width_m", "m", 1e-3, 100.0, kFixed, "slip finder: narrower gaps do not fit"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_width_m>(
+        "slip_max_width_m", "m", 1e-3, 100.0, kFixed,
+        "slip finder: wider gaps are open water, not a slip"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::min_depth_m>(
+        "slip_min_depth_m", "m", 1e-3, 100.0, kFixed,
+        "slip finder: the inside reaches at least this beyond the tips"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_depth_m>(
+        "slip_max_depth_m", "m", 1e-3, 100.0, kFixed,
+        "slip finder: and ends within this (a back wall)"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_bearing_deg>(
+        "slip_max_bearing_deg", "deg", 1.0, 180.0, kFixed,
+        "slip finder: only mouths within this of the forward direction"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_axis_deg>(
+        "slip_max_axis_deg", "deg", 1.0, 180.0, kFixed,
+        "slip finder: the slip's axis within this of the forward direction"),
+    real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_range_m>(
+        "slip_max_range_m", "m", 1e-3, 100.0, kFixed, "slip finder: farther tips are ignored"),
+};
+
+// ---- boat ---------------------------------------------------------------------------------
+
+constexpr std::array kLayouts{
+    ParamChoice{"servo_thruster", static_cast<int>(msg::ActuatorLayout::kServoThruster)},
+    ParamChoice{"twin_thrusters", static_cast<int>(msg::ActuatorLayout::kTwinThrusters)},
+};
+using core::MountTransform;
+template <MountTransform MountsConfig::*Mount>
+constexpr std::array<ParamSpec<BoatConfig>, 3> mount_rows(std::string_view yaw, std::string_view x,
+                                                          std::string_view y) {
+  return {real_param<BoatConfig, &BoatConfig::mounts, Mount, &MountTransform::yaw_deg>(
+              yaw, "deg", -360.0, 360.0, kFixed, "sensor's yaw in the body frame"),
+          real_param<BoatConfig, &BoatConfig::mounts, Mount, &MountTransform::x_m>(
+              x, "m", -10.0, 10.0, kFixed, "sensor position, forward of the body origin"),
+          real_param<BoatConfig, &BoatConfig::mounts, Mount, &MountTransform::y_m>(
+              y, "m", -10.0, 10.0, kFixed, "sensor position, starboard of the body origin")};
+}
+constexpr auto kLidarMount = mount_rows<&MountsConfig::lidar>(
+    "mounts.lidar.yaw_deg", "mounts.lidar.x_m", "mounts.lidar.y_m");
+constexpr auto kImuMount =
+    mount_rows<&MountsConfig::imu>("mounts.imu.yaw_deg", "mounts.imu.x_m", "mounts.imu.y_m");
+constexpr auto kGnssMount =
+    mount_rows<&MountsConfig::gnss>("mounts.gnss.yaw_deg", "mounts.gnss.x_m", "mounts.gnss.y_m");
+constexpr auto kCameraMount = mount_rows<&MountsConfig::camera>(
+    "mounts.camera.yaw_deg", "mounts.camera.x_m", "mounts.camera.y_m");
+
+using A = ActuatorsConfig;
+constexpr std::array kBoat{
+    text_param<BoatConfig, &BoatConfig::name>("name", "free text, shown in logs and reports"),
+    real_param<BoatConfig, &BoatConfig::hull, &HullConfig::length_m>(
+        "hull.length_m", "m", 0.2, 20.0, kFixed, "overall length"),
+    real_param<BoatConfig, &BoatConfig::hull, &HullConfig::beam_m>("hull.beam_m", "m", 0.1, 10.0,
+                                                                   kFixed, "overall width"),
+    real_param<BoatConfig, &BoatConfig::hull, &HullConfig::bow_overhang_m>(
+        "hull.bow_overhang_m", "m", 0.0, 20.0, kFixed, "body origin to the tip of the bow"),
+    kLidarMount[0],
+    kLidarMount[1],
+    kLidarMount[2],
+    kImuMount[0],
+    kImuMount[1],
+    kImuMount[2],
+    kGnssMount[0],
+    kGnssMount[1],
+    kGnssMount[2],
+    kCameraMount[0],
+    kCameraMount[1],
+    kCameraMount[2],
+    enum_param<BoatConfig, &BoatConfig::actuators, &A::layout>(
+        "actuators.layout", kLayouts, kFixed,
+        "one stern thruster turned by a servo, or two fixed thrusters"),
+    real_param<BoatConfig, &BoatConfig::actuators, &A::command_rate_hz>(
+        "actuators.command_rate_hz", "Hz", 1.0, 200.0, kFixed,
+        "how often commands go to the Arduino"),
+    real_param<BoatConfig, &BoatConfig::actuators, &A::twin_track_width_m>(
+        "actuators.twin_track_width_m", "m", 0.05, 10.0, kFixed,
+        "distance between the twin thrusters"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::center_us>(
+        "actuators.servo.center_us", "us", 500, 2500, kFixed, "servo pulse for straight ahead"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::min_us>(
+        "actuators.servo.min_us", "us", 500, 2500, kFixed, "shortest servo pulse"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::max_us>(
+        "actuators.servo.max_us", "us", 500, 2500, kFixed, "longest servo pulse"),
+    real_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::max_deflection_deg>(
+        "actuators.servo.max_deflection_deg", "deg", 1.0, 90.0, kFixed,
+        "deflection at min_us and max_us"),
+    real_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::rate_deg_per_s>(
+        "actuators.servo.rate_deg_per_s", "deg/s", 1.0, 5000.0, kFixed, "servo slew rate"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::deadband_us>(
+        "actuators.servo.deadband_us", "us", 0, 100, kFixed, "servo deadband"),
+    bool_param<BoatConfig, &BoatConfig::actuators, &A::servo, &ServoConfig::reversed>(
+        "actuators.servo.reversed", kFixed, "a larger pulse turns the bow to port"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::neutral_us>(
+        "actuators.thruster.neutral_us", "us", 500, 2500, kFixed, "ESC pulse for no thrust"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::min_us>(
+        "actuators.thruster.min_us", "us", 500, 2500, kFixed, "full reverse"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::max_us>(
+        "actuators.thruster.max_us", "us", 500, 2500, kFixed, "full forward"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::forward_start_us>(
+        "actuators.thruster.forward_start_us", "us", 500, 2500, kFixed,
+        "forward thrust starts above this"),
+    int_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::reverse_start_us>(
+        "actuators.thruster.reverse_start_us", "us", 500, 2500, kFixed,
+        "reverse thrust starts below this"),
+    bool_param<BoatConfig, &BoatConfig::actuators, &A::thruster, &ThrusterConfig::reverse_allowed>(
+        "actuators.thruster.reverse_allowed", kFixed, "the ESC may be driven astern"),
+};
+
+// ---- devices ------------------------------------------------------------------------------
+
+template <class D>
+constexpr std::array<ParamSpec<D>, 4> serial_rows() {
+  return {bool_param<D, &SerialDeviceConfig::enabled>("enabled", kFixed, "use this device"),
+          text_param<D, &SerialDeviceConfig::path>("path", "serial device path"),
+          int_param<D, &SerialDeviceConfig::baud>("baud", "bit/s", 1200, 4'000'000, kFixed,
+                                                  "serial baud rate"),
+          int_param<D, &SerialDeviceConfig::timeout_ms>("timeout_ms", "ms", 20, 60'000, kFixed,
+                                                        "silence longer than this = unhealthy")};
+}
+
+constexpr std::array kScanModes{
+    ParamChoice{"auto", static_cast<int>(LidarScanMode::kAuto)},
+    ParamChoice{"standard", static_cast<int>(LidarScanMode::kStandard)},
+    ParamChoice{"express", static_cast<int>(LidarScanMode::kExpress)},
+};
+constexpr auto kLidarSerial = serial_rows<LidarDeviceConfig>();
+constexpr std::array kLidar{
+    kLidarSerial[0],
+    kLidarSerial[1],
+    kLidarSerial[2],
+    kLidarSerial[3],
+    enum_param<LidarDeviceConfig, &LidarDeviceConfig::scan_mode>(
+        "scan_mode", kScanModes, kFixed, "auto picks the densest mode the model supports"),
+    int_param<LidarDeviceConfig, &LidarDeviceConfig::motor_pwm>("motor_pwm", "", 0, 1023, kFixed,
+                                                                "A2/A3 accessory board motor PWM"),
+    int_param<LidarDeviceConfig, &LidarDeviceConfig::motor_rpm>("motor_rpm", "rpm", 0, 3000, kFixed,
+                                                                "S-series motor speed"),
+};
+
+constexpr std::array kImuOutputs{
+    ParamChoice{"ascii", static_cast<int>(ImuOutput::kAscii)},
+    ParamChoice{"binary", static_cast<int>(ImuOutput::kBinary)},
+};
+constexpr auto kImuSerial = serial_rows<ImuDeviceConfig>();
+constexpr std::array kImu{
+    kImuSerial[0],
+    kImuSerial[1],
+    kImuSerial[2],
+    kImuSerial[3],
+    enum_param<ImuDeviceConfig, &ImuDeviceConfig::output>("output", kImuOutputs, kFixed,
+                                                          "the myAHRS+ output format"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::rate_hz>("rate_hz", "Hz", 1.0, 100.0, kFixed,
+                                                           "output rate"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::declination_deg>(
+        "declination_deg", "deg", -180.0, 180.0, kFixed,
+        "magnetic declination at the site, east positive"),
+};
+
+constexpr std::array kReceivers{
+    ParamChoice{"f9", static_cast<int>(GnssReceiver::kF9)},
+    ParamChoice{"m8", static_cast<int>(GnssReceiver::kM8)},
+};
+constexpr std::array kPorts{
+    ParamChoice{"usb", static_cast<int>(GnssPort::kUsb)},
+    ParamChoice{"uart1", static_cast<int>(GnssPort::kUart1)},
+};
+constexpr auto kGnssSerial = serial_rows<GnssDeviceConfig>();
+constexpr std::array kGnss{
+    kGnssSerial[0],
+    kGnssSerial[1],
+    kGnssSerial[2],
+    kGnssSerial[3],
+    enum_param<GnssDeviceConfig, &GnssDeviceConfig::receiver>(
+        "receiver", kReceivers, kFixed, "receiver generation (configuration messages differ)"),
+    enum_param<GnssDeviceConfig, &GnssDeviceConfig::port>("port", kPorts, kFixed,
+                                                          "receiver port the cable is on"),
+    real_param<GnssDeviceConfig, &GnssDeviceConfig::rate_hz>("rate_hz", "Hz", 0.1, 25.0, kFixed,
+                                                             "navigation rate"),
+    bool_param<GnssDeviceConfig, &GnssDeviceConfig::nmea_output>("nmea_output", kFixed,
+                                                                 "keep NMEA output on beside UBX"),
+    text_param<GnssDeviceConfig, &GnssDeviceConfig::rtcm_input>(
+        "rtcm_input", "RTK corrections: \"\", a file or pipe path, or tcp://host:port"),
+};
+
+constexpr auto kArduinoSerial = serial_rows<ArduinoDeviceConfig>();
+constexpr std::array kArduino{
+    kArduinoSerial[0],
+    kArduinoSerial[1],
+    kArduinoSerial[2],
+    kArduinoSerial[3],
+    int_param<ArduinoDeviceConfig, &ArduinoDeviceConfig::failsafe_ms>(
+        "failsafe_ms", "ms", 50, 5000, kFixed,
+        "the firmware goes neutral when no command arrives for this long"),
+};
+
+using C = CameraDeviceConfig;
+constexpr std::array kCamera{
+    bool_param<C, &C::enabled>("enabled", kFixed, "use the camera"),
+    text_param<C, &C::source>("source", "a V4L2 device, a video file or an image directory"),
+    bool_param<C, &C::loop>("loop", kFixed,
+                            "video file or image directory: start again at the end"),
+    int_param<C, &C::width_px>("width_px", "px", 16, 8192, kFixed, "frame width"),
+    int_param<C, &C::height_px>("height_px", "px", 16, 8192, kFixed, "frame height"),
+    real_param<C, &C::fps>("fps", "Hz", 0.5, 240.0, kFixed, "frame rate"),
+    real_param<C, &C::hfov_deg>("hfov_deg", "deg", 5.0, 179.0, kFixed, "horizontal field of view"),
+    bool_param<C, &C::auto_exposure>("auto_exposure", kFixed, "let the camera set exposure"),
+    real_param<C, &C::exposure>("exposure", "", 0.0, kBig, kFixed, "V4L2 exposure"),
+    real_param<C, &C::saturation>("saturation", "", 0.0, kBig, kFixed, "V4L2 saturation"),
+    real_param<C, &C::contrast>("contrast", "", 0.0, kBig, kFixed, "V4L2 contrast"),
+    real_param<C, &C::brightness>("brightness", "", 0.0, kBig, kFixed, "V4L2 brightness"),
+    int_param<C, &C::timeout_ms>("timeout_ms", "ms", 20, 60'000, kFixed,
+                                 "no frame for this long = unhealthy"),
+};
+
+constexpr std::array kLiveServer{
+    text_param<LiveConfig, &LiveConfig::control_socket>(
+        "control_socket", "control socket path; \"\" = <run directory>/control.sock"),
+    bool_param<LiveConfig, &LiveConfig::http_enabled>(
+        "http_enabled", kFixed, "serve the status page and the Foxglove WebSocket"),
+    text_param<LiveConfig, &LiveConfig::http_address>("http_address",
+                                                      "address the live server listens on"),
+    int_param<LiveConfig, &LiveConfig::http_port>("http_port", "", 0, 65535, kFixed,
+                                                  "port of the live server; 0 = any free port"),
+    real_param<LiveConfig, &LiveConfig::viz_rate_hz>(
+        "viz_rate_hz", "Hz", 0.1, 100.0, kFixed,
+        "Foxglove messages per channel at most this often"),
+    core::secret_param<LiveConfig, &LiveConfig::token>(
+        "token", "needed by every state-changing request; \"\" = control disabled"),
+};
+
+}  // namespace
+
+template <>
+std::span<const ParamSpec<control::HeadingPidParams>> param_table() {
+  return kHeadingPid;
+}
+template <>
+std::span<const ParamSpec<control::SpeedScheduleParams>> param_table() {
+  return kSpeed;
+}
+template <>
+std::span<const ParamSpec<guidance::AvoidanceParams>> param_table() {
+  return kAvoidance;
+}
+template <>
+std::span<const ParamSpec<guidance::WaypointFollowerParams>> param_table() {
+  return kWaypoints;
+}
+template <>
+std::span<const ParamSpec<guidance::GpsCalibrationParams>> param_table() {
+  return kGpsCalibration;
+}
+template <>
+std::span<const ParamSpec<perception::LidarClusterParams>> param_table() {
+  return kClustering;
+}
+template <>
+std::span<const ParamSpec<perception::MarkerVoteParams>> param_table() {
+  return kVisionVote;
+}
+template <>
+std::span<const ParamSpec<MissionConfig>> param_table() {
+  return kMission;
+}
+template <>
+std::span<const ParamSpec<NavigationConfig>> param_table() {
+  return kNavigation;
+}
+template <>
+std::span<const ParamSpec<Course1Config>> param_table() {
+  return kCourse1;
+}
+template <>
+std::span<const ParamSpec<Course2Config>> param_table() {
+  return kCourse2;
+}
+template <>
+std::span<const ParamSpec<DockingConfig>> param_table() {
+  return kDocking;
+}
+template <>
+std::span<const ParamSpec<BoatConfig>> param_table() {
+  return kBoat;
+}
+template <>
+std::span<const ParamSpec<LidarDeviceConfig>> param_table() {
+  return kLidar;
+}
+template <>
+std::span<const ParamSpec<ImuDeviceConfig>> param_table() {
+  return kImu;
+}
+template <>
+std::span<const ParamSpec<GnssDeviceConfig>> param_table() {
+  return kGnss;
+}
+template <>
+std::span<const ParamSpec<ArduinoDeviceConfig>> param_table() {
+  return kArduino;
+}
+template <>
+std::span<const ParamSpec<CameraDeviceConfig>> param_table() {
+  return kCamera;
+}
+template <>
+std::span<const ParamSpec<LiveConfig>> param_table() {
+  return kLiveServer;
+}
+
+std::span<const ParamChoice> colour_choices() { return kColours; }
+
+std::string_view task_type_name(TaskType type) {
+  switch (type) {
+    case TaskType::kHopping:
+      return "hopping";
+    case TaskType::kObstacleCourse:
+      return "obstacle_course";
+    case TaskType::kCourse1:
+      return "course1";
+    case TaskType::kCourse2:
+      return "course2";
+    case TaskType::kDocking:
+      return "docking";
+  }
+  return "unknown";
+}
+
+}  // namespace coxswain::config
