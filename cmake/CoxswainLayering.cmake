@@ -61,3 +61,6 @@ coxswain_forbid_links(
           coxswain_config_model
   FORBIDDEN coxswain_config yaml-cpp spdlog::spdlog coxswain_opencv coxswain_perception_vision
             coxswain_app coxswain_live coxswain_record)
+# Replay and the simulator's recorder need the hosts' shared records, not the daemon.
+coxswain_forbid_links(TARGETS coxswain_replay coxswain_host coxswain_record coxswain_sim_recording
+                      FORBIDDEN coxswain_app)

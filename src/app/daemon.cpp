@@ -298,8 +298,8 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
           if (error.empty()) {
             spdlog::info("live: tunable parameters applied at tick {}", tick.index);
             // Recorded with the tick it first steps, so replay applies it at the same point.
-            if (recorder &&
-                !recorder->record_parameters(tick.index, tick.now_ns, named_values(*live_params))) {
+            if (recorder && !recorder->record_parameters(tick.index, tick.now_ns,
+                                                         host::named_values(*live_params))) {
               spdlog::warn("live: the applied parameter set could not be recorded");
             }
             if (camera) camera->set_vision(live_params->vision);
@@ -311,7 +311,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
         core->step(*snapshot, tick.now_ns, *out);
         store->command.publish(out->command, tick.now_ns);
         log_transitions(out->transitions);
-        if (recorder || live_server) fill_tick_viz(*out, config.boat, *tick_viz);
+        if (recorder || live_server) host::fill_tick_viz(*out, config.boat, *tick_viz);
         if (live_server) {
           live_tick->summary.tick_index = tick.index;
           live_tick->summary.status = out->status;

@@ -3,7 +3,7 @@
 
 #include <stdexcept>
 
-#include "coxswain/record/decode_replay.hpp"
+#include "coxswain/replay/decode_replay.hpp"
 #include "coxswain/replay/replay.hpp"
 
 namespace coxswain::replay {
@@ -12,12 +12,12 @@ int run_replay_command(const ReplayCommand& command, std::ostream& out, std::ost
   constexpr int kDifferent = 1;
   constexpr int kUnreadable = 2;
   if (command.decode) {
-    const record::DecodeReplayReport r = record::decode_replay(command.recording);
+    const DecodeReplayReport r = decode_replay(command.recording);
     if (!r.ok) {
       err << "replay --decode: " << r.error << "\n";
       return kUnreadable;
     }
-    out << record::format_decode_replay(r);
+    out << format_decode_replay(r);
     return 0;
   }
   const Recording recording = load_recording(command.recording);

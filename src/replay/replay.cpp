@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "coxswain/app/core_host.hpp"
+#include "coxswain/host/step_record.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
 
@@ -264,7 +264,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     const auto scene = recording.viz_scene.find(stamp);
     if (scene != recording.viz_scene.end()) {
       ++report.viz_compared;
-      app::fill_tick_viz(*out, config.boat, *viz);
+      host::fill_tick_viz(*out, config.boat, *viz);
       const std::uint64_t replayed_scene = fnv1a(record::foxglove::scene_update_json(
           tick->now_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
       if (replayed_scene != scene->second) {

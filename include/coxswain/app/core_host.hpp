@@ -7,21 +7,10 @@
 
 #include "coxswain/config/config.hpp"
 #include "coxswain/drivers/device_session.hpp"
+#include "coxswain/host/step_record.hpp"
 #include "coxswain/mission/mission_core.hpp"
-#include "coxswain/record/layouts.hpp"
-#include "coxswain/record/tick_record.hpp"
 
 namespace coxswain::app {
-
-/// The recorder's compact visualization of one step: pose, chosen direction, the blocked
-/// sector and the nearest obstacle segments (as discs at their midpoints). Pure.
-void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boat,
-                   record::TickViz& viz);
-
-/// Every named tunable of `params` (mission::tunable_specs() order) as the recorder's /params
-/// channel holds them. The names point at the table's own strings (they live forever).
-[[nodiscard]] std::vector<record::NamedValue> named_values(
-    const mission::TunableParameters& params);
 
 /// Logs this step's state transitions (one line each, with the reason).
 void log_transitions(const mission::TransitionLog& transitions);

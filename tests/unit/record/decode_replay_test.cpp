@@ -6,11 +6,14 @@
 
 #include <filesystem>
 
-#include "coxswain/record/decode_replay.hpp"
 #include "coxswain/record/recorder.hpp"
+#include "coxswain/replay/decode_replay.hpp"
 #include "device_streams.hpp"
 
 namespace coxswain::record {
+using replay::decode_replay;
+using replay::DecodeReplayReport;
+using replay::format_decode_replay;
 namespace {
 
 namespace fs = std::filesystem;

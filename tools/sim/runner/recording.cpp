@@ -6,7 +6,7 @@
 #include <chrono>
 #include <thread>
 
-#include "coxswain/app/core_host.hpp"
+#include "coxswain/host/step_record.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 
 namespace coxswain::sim::runner {
@@ -110,7 +110,7 @@ void RunRecorder::record_tick(const core::Snapshot& snapshot, core::TimeNs now_n
                               const mission::CoreOutput& out) {
   if (!started_) return;
   wait_for_sampler(snapshot);
-  app::fill_tick_viz(out, boat_, *viz_);
+  host::fill_tick_viz(out, boat_, *viz_);
   (void)recorder_->record_tick(
       {tick_index_, now_ns, &snapshot, out.command, out.status.state_path.view(), viz_.get()});
   ++tick_index_;
@@ -118,7 +118,7 @@ void RunRecorder::record_tick(const core::Snapshot& snapshot, core::TimeNs now_n
 
 void RunRecorder::record_parameters(const mission::TunableParameters& params, core::TimeNs now_ns) {
   if (!started_) return;
-  (void)recorder_->record_parameters(tick_index_, now_ns, app::named_values(params));
+  (void)recorder_->record_parameters(tick_index_, now_ns, host::named_values(params));
 }
 
 record::RecorderStats RunRecorder::stop() {

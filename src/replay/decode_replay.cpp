@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "coxswain/record/decode_replay.hpp"
+#include "coxswain/replay/decode_replay.hpp"
 
 #include <array>
 #include <map>
@@ -13,8 +13,10 @@
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/recorder.hpp"
 
-namespace coxswain::record {
+namespace coxswain::replay {
 namespace {
+
+using namespace record;  // the MCAP reader and the recorded layouts
 
 void copy_stats(const drivers::CodecStats& s, DeviceDecodeCounts& out) {
   out.frames_ok = s.frames_ok;
@@ -150,4 +152,4 @@ std::string format_decode_replay(const DecodeReplayReport& report) {
   return out.str();
 }
 
-}  // namespace coxswain::record
+}  // namespace coxswain::replay

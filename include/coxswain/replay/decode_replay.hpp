@@ -15,7 +15,7 @@
 #include "coxswain/msg/device_health.hpp"
 #include "coxswain/record/mcap_reader.hpp"
 
-namespace coxswain::record {
+namespace coxswain::replay {
 
 struct DecodeReplayOptions {
   drivers::rplidar::ScanAssemblerParams lidar;  // mount and range limits from boat.yaml
@@ -42,7 +42,7 @@ struct DeviceDecodeCounts {
 struct DecodeReplayReport {
   bool ok = false;  // the file was read (possibly truncated)
   std::string error;
-  McapReadReport file;
+  record::McapReadReport file;
   std::vector<DeviceDecodeCounts> devices;  // one per device, msg::DeviceId order
 };
 
@@ -51,4 +51,4 @@ struct DecodeReplayReport {
 /// A human-readable table of the report (one line per device).
 [[nodiscard]] std::string format_decode_replay(const DecodeReplayReport& report);
 
-}  // namespace coxswain::record
+}  // namespace coxswain::replay

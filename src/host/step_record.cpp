@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/host/step_record.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include "coxswain/mission/tunable_parameters.hpp"
+
+namespace coxswain::host {
+
+void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boat,
+                   record::TickViz& viz) {
+  const mission::VizFrame& f = out.viz;
+  viz = record::TickViz{};
+  viz.pose_valid = f.pose_valid;
+  viz.north_m = f.pose.position.north_m;
+  viz.east_m = f.pose.position.east_m;
+  viz.heading_deg = f.pose.heading_deg;
+  viz.hull_length_m = static_cast<float>(boat.hull.length_m);
+  viz.hull_beam_m = static_cast<float>(boat.hull.beam_m);
+  if (f.has_avoidance) {
+    viz.target_valid = true;
+    viz.target_bearing_deg = f.avoidance_bearing_body_deg;
+  } else if (f.has_desired_heading && f.heading_valid) {
+    viz.target_valid = true;
+    viz.target_bearing_deg = f.desired_heading_deg - f.pose.heading_deg;
+  }
+  // The blocked sector: from the first to the last bin judged more than half blocked.
+  const std::uint32_t bins =
+      std::min<std::uint32_t>(f.danger_count, mission::VizFrame::kMaxDangerBins);
+  std::int64_t first = -1;
+  std::int64_t last = -1;
+  for (std::uint32_t i = 0; i < bins; ++i) {
+    if (f.danger[i] > 0.5F) {
+      if (first < 0) first = i;
+      last = i;
+    }
+  }
+  if (first >= 0) {
+    viz.danger_valid = true;
+    viz.danger_start_deg = f.danger_min_deg + static_cast<double>(first) * f.danger_bin_width_deg;
+    viz.danger_end_deg = f.danger_min_deg + static_cast<double>(last + 1) * f.danger_bin_width_deg;
+    viz.danger_range_m = 0.0;
+  }
+  // The nearest segments, each as a disc through its end points.
+  std::array<std::pair<double, std::uint32_t>, mission::VizFrame::kMaxSegments> order{};
+  const std::uint32_t n = std::min<std::uint32_t>(f.segment_count, mission::VizFrame::kMaxSegments);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto& s = f.segments[i];
+    const double mx = 0.5 * (s.begin.forward_m + s.end.forward_m);
+    const double my = 0.5 * (s.begin.starboard_m + s.end.starboard_m);
+    order[i] = {std::hypot(mx, my), i};
+  }
+  std::sort(order.begin(), order.begin() + n);
+  for (std::uint32_t k = 0; k < n && viz.obstacle_count < record::TickViz::kMaxObstacles; ++k) {
+    const auto& s = f.segments[order[k].second];
+    record::VizObstacle& o = viz.obstacles[viz.obstacle_count++];
+    o.x_m = static_cast<float>(0.5 * (s.begin.forward_m + s.end.forward_m));
+    o.y_m = static_cast<float>(0.5 * (s.begin.starboard_m + s.end.starboard_m));
+    o.radius_m = static_cast<float>(0.5 * std::hypot(s.end.forward_m - s.begin.forward_m,
+                                                     s.end.starboard_m - s.begin.starboard_m));
+  }
+}
+
+std::vector<record::NamedValue> named_values(const mission::TunableParameters& params) {
+  std::vector<record::NamedValue> values;
+  values.reserve(mission::tunable_specs().size());
+  for (const mission::TunableSpec& spec : mission::tunable_specs()) {
+    values.push_back({spec.name, spec.get(params)});
+  }
+  return values;
+}
+
+}  // namespace coxswain::host
