@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # CI stage: a real one-node Slurm cluster on this machine runs a batch as a 4-task job array plus
 # the dependent merge job (tools/cluster/submit-batch.sh), and the merged summary must equal the
-# summary of the same batch run unsharded. Installs Debian's slurm-wlm and munge when missing,
+# summary of the same batch run unsharded; then 2 tuning workers (tools/cluster/tune.sbatch) as an
+# array sharing one Optuna study. Installs Debian's slurm-wlm and munge when missing,
 # generates a munge key and a slurm.conf in a temporary folder (no cgroups: process tracking by
 # /proc, no task plugin, no accounting), starts munged, slurmctld and slurmd on localhost, and
 # stops them again on exit. Needs root (the daemons run as root here) and coxswain-sim built:
@@ -17,11 +18,12 @@ batch_args=(--kind obstacle --runs 8 --seed0 101 --no-camera)
 t0=$(date +%s)
 log() { echo "[slurm $(( $(date +%s) - t0 )) s] $*"; }
 
-if ! command -v slurmctld > /dev/null || ! command -v munged > /dev/null; then
-  log "installing slurm-wlm and munge"
+if ! command -v slurmctld > /dev/null || ! command -v munged > /dev/null ||
+   ! /usr/bin/python3 -c "import optuna, yaml" 2> /dev/null; then
+  log "installing slurm-wlm, munge and python3-optuna"
   apt-get update -qq
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends slurm-wlm munge \
-    > /dev/null
+    python3-optuna python3-yaml > /dev/null
 fi
 
 work=$(mktemp -d /tmp/coxswain-slurm.XXXXXX)
@@ -134,3 +136,33 @@ fi
 # Every run line too, sorted by seed.
 diff <(head -n -1 "$out/merged.jsonl") <("$sim" merge "$work/whole.jsonl" | head -n -1)
 log "merged summary of 4 Slurm array tasks equals the unsharded batch"
+
+# Tuning workers as an array: 2 tasks share one Optuna study through a journal file; together
+# they finish 4 trials (2 runs each).
+store="journal:$work/tune/study.journal"
+mkdir -p "$work/tune"
+tune_id=$(sbatch --parsable --array=0-1 --output="$work/tune/slurm-%A_%a.out" \
+  tools/cluster/tune.sbatch "$store" ci --params-json tools/tune/testdata/obstacle_params.json \
+  --param avoidance.clearance_m:0.2:0.6 --param heading_pid.kp_per_deg:0.03:0.08 \
+  --kind obstacle --no-camera --runs 2 --max-time 60 --max-trials 4 --startup-trials 2)
+log "submitted tuning array ${tune_id%%;*}"
+for _ in $(seq 900); do
+  [[ -z "$(squeue -h -o %i 2> /dev/null)" ]] && break
+  sleep 0.2
+done
+finished=$(/usr/bin/python3 - "$work/tune/study.journal" << 'PY'
+import sys, warnings
+import optuna
+warnings.filterwarnings("ignore")
+storage = optuna.storages.JournalStorage(optuna.storages.JournalFileStorage(sys.argv[1]))
+study = optuna.load_study(study_name="ci", storage=storage)
+print(len([t for t in study.trials if t.state == optuna.trial.TrialState.COMPLETE]))
+PY
+)
+workers=$(grep -l '^trial ' "$work"/tune/slurm-*.out | wc -l)
+if (( finished < 4 || workers < 2 )); then
+  echo "slurm stage: the tuning array finished $finished trials from $workers workers"
+  tail -n 20 "$work"/tune/slurm-*.out
+  exit 1
+fi
+log "2 tuning workers in the Slurm array shared one study: $finished trials"
