@@ -261,7 +261,9 @@ def cmd_worker(args):
         if len(finished) >= args.max_trials:
             study_.stop()
 
-    study.optimize(objective, n_trials=args.trials, callbacks=[enough])
+    # A trial whose batch failed (e.g. a set the engines reject) is recorded as failed; the worker
+    # goes on.
+    study.optimize(objective, n_trials=args.trials, callbacks=[enough], catch=(RuntimeError,))
 
 
 def summarize(lines):

@@ -236,6 +236,33 @@ std::string set_parameter_assignment(config::MissionConfig& mission, std::string
   return set_parameter(mission, assignment.substr(0, eq), *value);
 }
 
+std::string apply_overlay_text(config::MissionConfig& mission, const std::string& text,
+                               const std::string& name) {
+  if (text.size() > (1U << 20U)) return name + ": larger than 1 MiB";
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    return name + ": " + e.what();
+  }
+  if (root.IsNull()) return {};
+  if (!root.IsMap()) return name + ": expected a flat map of parameter: value";
+  if (root.size() > 10000) return name + ": more than 10000 keys";
+  config::MissionConfig candidate = mission;
+  for (const auto& kv : root) {
+    if (!kv.first.IsScalar() || !kv.second.IsScalar()) {
+      return name + ": every key and value must be a scalar (a flat map of dotted names)";
+    }
+    const std::string key = kv.first.Scalar();
+    const auto value = parse_value(kv.second.Scalar());
+    if (!value) return name + ": " + key + ": the value is not a number";
+    const std::string problem = set_parameter(candidate, key, *value);
+    if (!problem.empty()) return name + ": " + problem;
+  }
+  mission = candidate;
+  return {};
+}
+
 std::string apply_overlay_file(config::MissionConfig& mission, const std::string& path) {
   std::error_code ec;
   const auto size = std::filesystem::file_size(path, ec);
@@ -244,28 +271,7 @@ std::string apply_overlay_file(config::MissionConfig& mission, const std::string
   std::ifstream in(path, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::Exception& e) {
-    return path + ": " + e.what();
-  }
-  if (root.IsNull()) return {};
-  if (!root.IsMap()) return path + ": expected a flat map of parameter: value";
-  if (root.size() > 10000) return path + ": more than 10000 keys";
-  config::MissionConfig candidate = mission;
-  for (const auto& kv : root) {
-    if (!kv.first.IsScalar() || !kv.second.IsScalar()) {
-      return path + ": every key and value must be a scalar (a flat map of dotted names)";
-    }
-    const std::string key = kv.first.Scalar();
-    const auto value = parse_value(kv.second.Scalar());
-    if (!value) return path + ": " + key + ": the value is not a number";
-    const std::string problem = set_parameter(candidate, key, *value);
-    if (!problem.empty()) return path + ": " + problem;
-  }
-  mission = candidate;
-  return {};
+  return apply_overlay_text(mission, text.str(), path);
 }
 
 }  // namespace coxswain::sim::batch

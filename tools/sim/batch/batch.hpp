@@ -85,5 +85,8 @@ bool read_lines(std::istream& in, const std::string& name, Collected& into, std:
 /// file's name and the key.
 [[nodiscard]] std::string apply_overlay_file(config::MissionConfig& mission,
                                              const std::string& path);
+/// The same for the overlay's text, named `name` in problems.
+[[nodiscard]] std::string apply_overlay_text(config::MissionConfig& mission,
+                                             const std::string& text, const std::string& name);
 
 }  // namespace coxswain::sim::batch
