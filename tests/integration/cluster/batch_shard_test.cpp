@@ -161,6 +161,18 @@ TEST(Shard, ParsesOnlyIndicesInsideTheCount) {
   EXPECT_FALSE(sim::batch::parse_shard("a/b", nullptr).has_value());
 }
 
+TEST(ReadLines, RejectsLinesWhoseFieldsHaveTheWrongTypes) {
+  for (const char* text : {R"({"seed": 1, "passed": "yes"})", R"({"seed": 1, "collisions": 1.5})",
+                           R"({"summary": true, "shard": "0", "shards": 2})", R"([1, 2])",
+                           R"({"passed": true})", "not json"}) {
+    std::istringstream in(text);
+    sim::batch::Collected c;
+    std::string why;
+    EXPECT_FALSE(sim::batch::read_lines(in, "bad", c, &why)) << text;
+    EXPECT_NE(why.find("bad:1:"), std::string::npos) << why;
+  }
+}
+
 TEST(SetParameter, SetsANamedParameterWithinItsRange) {
   config::MissionConfig m;
   EXPECT_EQ(sim::batch::set_parameter_assignment(m, "avoidance.clearance_m=0.8"), "");

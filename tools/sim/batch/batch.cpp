@@ -44,6 +44,31 @@ std::optional<double> parse_value(std::string_view s) {
   return v;
 }
 
+// The fields the summary and the merge read, when present, have the types they read them as
+// (so a hand-edited or corrupt line is an error, not an exception).
+std::string field_types_problem(const nlohmann::json& j) {
+  const auto is = [&](const char* key, auto test) { return !j.contains(key) || test(j[key]); };
+  const auto boolean = [](const nlohmann::json& v) { return v.is_boolean(); };
+  const auto number = [](const nlohmann::json& v) { return v.is_number(); };
+  const auto integer = [](const nlohmann::json& v) {
+    return v.is_number_integer() && v.get<std::int64_t>() >= -1 &&
+           v.get<std::int64_t>() <= 1'000'000'000;
+  };
+  for (const char* key : {"summary", "passed", "baseline", "completed"}) {
+    if (!is(key, boolean)) return std::string(key) + " is not true/false";
+  }
+  for (const char* key : {"elapsed_s", "score_s", "contest_score_s", "time_limit_s"}) {
+    if (!is(key, number)) return std::string(key) + " is not a number";
+  }
+  for (const char* key : {"collisions", "shard", "shards", "runs_total"}) {
+    if (!is(key, integer)) return std::string(key) + " is not a whole number";
+  }
+  if (!is("kind", [](const nlohmann::json& v) { return v.is_string(); })) {
+    return "kind is not a string";
+  }
+  return {};
+}
+
 }  // namespace
 
 std::optional<Shard> parse_shard(std::string_view text, std::string* why) {
@@ -152,12 +177,13 @@ bool read_lines(std::istream& in, const std::string& name, Collected& into, std:
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
     if (j.is_discarded() || !j.is_object()) return fail("not a JSON object");
-    if (j.contains("kind") && j["kind"].is_string()) {
+    if (const std::string problem = field_types_problem(j); !problem.empty()) return fail(problem);
+    if (j.contains("kind")) {
       const std::string kind = j["kind"].get<std::string>();
       if (into.kind.empty()) into.kind = kind;
       if (kind != into.kind) return fail("kind " + kind + " mixed with " + into.kind);
     }
-    if (j.contains("baseline") && j["baseline"].is_boolean()) into.baseline = j["baseline"];
+    if (j.contains("baseline")) into.baseline = j["baseline"].get<bool>();
     if (j.value("summary", false)) {
       into.summaries.push_back(std::move(j));
     } else {
@@ -181,6 +207,7 @@ std::string check_collected(const Collected& c) {
   for (const auto& s : c.summaries) {
     if (!s.contains("shard")) continue;
     const int n = s.value("shards", 0);
+    if (n < 1 || n > 100000) return "a shard summary with a shard count outside 1..100000";
     if (shards != 0 && n != shards) return "shard files of different shard counts";
     shards = n;
     runs_total = s.value("runs_total", -1);
