@@ -10,7 +10,6 @@
 #   COXSWAIN_SIM=build/tools/sim/app/coxswain-sim .ci/slurm.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-root=$PWD
 sim=$(realpath "${COXSWAIN_SIM:-build/tools/sim/app/coxswain-sim}")
 test -x "$sim" || { echo "slurm stage: $sim is not built"; exit 1; }
 # A small batch: 4 shards of 2 runs, no camera frames (a few seconds of CPU per run).

@@ -205,12 +205,15 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static std::vector<std::string> set_assignments;
   static std::vector<std::string> set_files;
   static double batch_max_time_s = 900.0;
-  batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
-      ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+  auto* kind_option =
+      batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
+          ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
   batch
       ->add_option("--course", batch_course,
-                   "sail this course file on every run (seeds vary the disturbances and noise)")
-      ->check(CLI::ExistingFile);
+                   "sail this course file on every run (seeds vary the disturbances and noise; "
+                   "the kind is the course's type)")
+      ->check(CLI::ExistingFile)
+      ->excludes(kind_option);
   batch->add_option("--runs", runs, "number of runs (generated courses, or seeds on --course)");
   batch->add_option("--seed0", seed0, "seed of the first course (run i uses seed0 + i)");
   batch->add_option("--jobs", jobs, "threads (default: all cores)");
