@@ -67,9 +67,15 @@ def contiguous_blocks(seeds):
 class Param:
     """One searched parameter: its table entry and the range searched."""
 
+    # The table's type names (`coxswain config params --json` says number/integer/boolean).
+    TYPES = {"double": "double", "number": "double", "real": "double", "int": "int",
+             "integer": "int", "bool": "bool", "boolean": "bool", "enum": "enum"}
+
     def __init__(self, entry, lo=None, hi=None):
         self.key = entry["key"]
-        self.type = entry.get("type", "double")
+        if entry.get("type", "double") not in self.TYPES:
+            raise ValueError(f"{self.key}: a {entry.get('type')} parameter cannot be searched")
+        self.type = self.TYPES[entry.get("type", "double")]
         self.default = entry.get("default")
         self.values = entry.get("values")
         self.unit = entry.get("unit", "")
@@ -107,7 +113,9 @@ def load_params(params_json, specs):
         table = json.load(f)
     if not isinstance(table, list):
         raise ValueError(f"{params_json}: expected a JSON array of parameters")
-    by_key = {e["key"]: e for e in table if isinstance(e, dict) and "key" in e}
+    # Mission parameters only, when the table covers several file kinds ("kind": "mission").
+    by_key = {e["key"]: e for e in table
+              if isinstance(e, dict) and "key" in e and e.get("kind", "mission") == "mission"}
     out = []
     for spec in specs:
         parts = spec.split(":")
