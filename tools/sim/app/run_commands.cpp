@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// `coxswain-sim run` (one mission in lockstep on one course) and `coxswain-sim batch`
-// (generated courses on a thread pool, JSON lines and a summary).
+// `coxswain-sim run` (one mission in lockstep on one course), `coxswain-sim batch` (generated
+// courses or one course file over seeds, on a thread pool or as one shard of many, JSON lines and a
+// summary) and `coxswain-sim merge` (shards back into one batch).
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 
 #include "commands.hpp"
 #include "coxswain/guidance/avoidance.hpp"
+#include "sim/batch/batch.hpp"
 #include "sim/runner/mission_run.hpp"
 #include "sim/scoring/scorer.hpp"
 #include "sim/world/course.hpp"
@@ -95,15 +97,6 @@ void apply_default_disturbances(world::Course& course, sensors::SensorConfig& se
   sensors.gnss.bias_mean_m = 2.0 + 2.0 * u;  // 2..4 m, plus the wander
   sensors.gnss.bias_max_m = 5.0;
   if (course.world.declination_deg == 0.0) course.world.declination_deg = -8.5;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const double idx = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(idx));
-  const auto hi = static_cast<std::size_t>(std::ceil(idx));
-  return v[lo] + (v[hi] - v[lo]) * (idx - static_cast<double>(lo));
 }
 
 }  // namespace
@@ -195,7 +188,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   });
 
   // ---- batch ----
-  auto* batch = app.add_subcommand("batch", "sail generated courses on all cores");
+  auto* batch = app.add_subcommand(
+      "batch", "sail generated courses (or one course file over disturbance seeds) on all cores");
   static std::string kind_name = "obstacle";
   static int runs = 100;
   static std::uint64_t seed0 = 1;
@@ -206,16 +200,40 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static std::string strategy;
   static bool no_disturbances = false;
   static std::string batch_mission;
-  batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
-      ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
-  batch->add_option("--runs", runs, "number of generated courses");
+  static std::string batch_course;
+  static std::string shard_text;
+  static std::vector<std::string> set_assignments;
+  static std::vector<std::string> set_files;
+  static double batch_max_time_s = 900.0;
+  auto* kind_option =
+      batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
+          ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+  batch
+      ->add_option("--course", batch_course,
+                   "sail this course file on every run (seeds vary the disturbances and noise; "
+                   "the kind is the course's type)")
+      ->check(CLI::ExistingFile)
+      ->excludes(kind_option);
+  batch->add_option("--runs", runs, "number of runs (generated courses, or seeds on --course)");
   batch->add_option("--seed0", seed0, "seed of the first course (run i uses seed0 + i)");
   batch->add_option("--jobs", jobs, "threads (default: all cores)");
+  batch->add_option("--shard", shard_text,
+                    "I/N: only the I-th (0..N-1) of N disjoint parts (runs i with i % N == I); "
+                    "JSON lines out, combine the parts with `coxswain-sim merge`");
+  batch->add_option("--set", set_assignments,
+                    "KEY=VALUE: set a mission parameter by dotted name (repeatable; after "
+                    "--set-file), e.g. avoidance.clearance_m=0.4");
+  batch
+      ->add_option("--set-file", set_files,
+                   "overlay file: a flat YAML map of dotted parameter name to value "
+                   "(repeatable, applied in order)")
+      ->check(CLI::ExistingFile);
   batch->add_flag("--baseline", batch_baseline, "the documents' own algorithms");
   batch->add_flag("--no-camera", batch_no_camera, "no camera frames");
   batch->add_option("--missions", missions_dir, "folder of the shipped mission files");
   batch->add_option("--mission", batch_mission, "mission file (default: the kind's shipped one)");
   batch->add_option("--strategy", strategy, "avoidance strategy override");
+  batch->add_option("--max-time", batch_max_time_s, "hard stop per run, simulated seconds");
   batch->add_flag("--no-disturbances", no_disturbances,
                   "no default current, GNSS bias or declination (sensor noise stays)");
   batch->add_option("--sensors", files.sensors, "simulated sensor file");
@@ -223,18 +241,42 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   batch->add_option("--devices", files.devices, "devices file");
   batch->callback([&exit_code] {
     world::CourseKind kind = world::CourseKind::kObstacle;
-    std::string mission_name = "obstacle_course.yaml";
-    if (kind_name == "hopping") {
+    config::ConfigErrors errors;
+    std::optional<world::Course> fixed_course;
+    if (!batch_course.empty()) {
+      fixed_course = world::load_course_file(batch_course, errors);
+      if (!errors.empty()) {
+        std::cerr << errors.format();
+        exit_code = 2;
+        return;
+      }
+      kind = fixed_course->world.kind;
+      kind_name = std::string(world::course_kind_name(kind));
+    } else if (kind_name == "hopping") {
       kind = world::CourseKind::kHopping;
-      mission_name = "hopping.yaml";
     } else if (kind_name == "docking") {
       kind = world::CourseKind::kDocking;
-      mission_name = "docking.yaml";
     } else if (kind_name == "kaboat2026") {
       kind = world::CourseKind::kKaboat2026;
+    }
+    std::string mission_name = "obstacle_course.yaml";
+    if (kind == world::CourseKind::kHopping) {
+      mission_name = "hopping.yaml";
+    } else if (kind == world::CourseKind::kDocking) {
+      mission_name = "docking.yaml";
+    } else if (kind == world::CourseKind::kKaboat2026) {
       mission_name = "kaboat2026.yaml";
     }
-    config::ConfigErrors errors;
+    std::optional<batch::Shard> shard;
+    if (!shard_text.empty()) {
+      std::string why;
+      shard = batch::parse_shard(shard_text, &why);
+      if (!shard) {
+        std::cerr << why << "\n";
+        exit_code = 2;
+        return;
+      }
+    }
     config::Configuration base;
     sensors::SensorConfig sensor_config;
     load_common(files, base, sensor_config, errors);
@@ -255,20 +297,40 @@ void add_run_commands(CLI::App& app, int& exit_code) {
       }
       base.mission.avoidance.strategy = *s;
     }
+    for (const auto& file : set_files) {
+      const std::string problem = batch::apply_overlay_file(base.mission, file);
+      if (!problem.empty()) {
+        std::cerr << problem << "\n";
+        exit_code = 2;
+        return;
+      }
+    }
+    for (const auto& assignment : set_assignments) {
+      const std::string problem = batch::set_parameter_assignment(base.mission, assignment);
+      if (!problem.empty()) {
+        std::cerr << problem << "\n";
+        exit_code = 2;
+        return;
+      }
+    }
+    const std::vector<int> indices =
+        batch::shard_runs(std::max(runs, 0), shard.value_or(batch::Shard{}));
+    const int count = static_cast<int>(indices.size());
     const unsigned n_jobs = jobs > 0 ? jobs : std::max(1U, std::thread::hardware_concurrency());
     const bool tty = isatty(STDERR_FILENO) != 0;
-    std::vector<nlohmann::json> results(static_cast<std::size_t>(std::max(runs, 0)));
+    std::vector<nlohmann::json> results(indices.size());
     std::atomic<int> next{0};
     std::atomic<int> done{0};
     std::mutex out_mutex;
     auto worker = [&] {
       for (;;) {
-        const int i = next.fetch_add(1);
-        if (i >= runs) return;
-        const std::uint64_t s = seed0 + static_cast<std::uint64_t>(i);
+        const int k = next.fetch_add(1);
+        if (k >= count) return;
+        const std::uint64_t s =
+            seed0 + static_cast<std::uint64_t>(indices[static_cast<std::size_t>(k)]);
         nlohmann::json j;
         try {
-          world::Course course = world::generate_course(kind, s);
+          world::Course course = fixed_course ? *fixed_course : world::generate_course(kind, s);
           runner::MissionRunOptions options;
           options.sensors = sensor_config;
           if (!no_disturbances) apply_default_disturbances(course, options.sensors, s);
@@ -277,8 +339,13 @@ void add_run_commands(CLI::App& app, int& exit_code) {
           options.seed = s;
           options.camera = !batch_no_camera;
           options.record_path = false;
+          options.max_time_s = batch_max_time_s;
           const runner::MissionRunResult r = runner::run_mission(course, config, options);
           const auto& sc = r.outcome.score;
+          double region_limits_s = 0.0;
+          for (const auto& region : course.world.regions) region_limits_s += region.time_limit_s;
+          const double limit_s =
+              batch::run_time_limit_s(config.mission, region_limits_s, batch_max_time_s);
           j = {{"seed", s},
                {"kind", kind_name},
                {"baseline", batch_baseline},
@@ -287,56 +354,82 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                {"collisions", sc.collisions},
                {"elapsed_s", sc.elapsed_s},
                {"score_s", sc.score_s},
+               {"penalty_s", sc.penalty_s},
+               {"time_limit_s", limit_s},
+               {"contest_score_s",
+                batch::contest_score_s(r.passed, sc.score_s, limit_s, sc.penalty_s)},
                {"mission_state", std::string(r.status.state_path.view())}};
         } catch (const std::exception& e) {
-          j = {{"seed", s}, {"kind", kind_name}, {"passed", false}, {"error", e.what()}};
+          j = {{"seed", s},
+               {"kind", kind_name},
+               {"baseline", batch_baseline},
+               {"passed", false},
+               {"time_limit_s", batch_max_time_s},
+               {"contest_score_s", batch_max_time_s},
+               {"error", e.what()}};
         }
         const std::lock_guard<std::mutex> lock(out_mutex);
         std::cout << j.dump() << "\n" << std::flush;
-        results[static_cast<std::size_t>(i)] = j;
+        results[static_cast<std::size_t>(k)] = j;
         const int d = ++done;
         if (tty) {
           const int width = 40;
-          const int filled = runs > 0 ? d * width / runs : width;
+          const int filled = count > 0 ? d * width / count : width;
           std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
                     << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << d
-                    << "/" << runs << std::flush;
-          if (d == runs) std::cerr << "\n";
+                    << "/" << count << std::flush;
+          if (d == count) std::cerr << "\n";
         }
       }
     };
     std::vector<std::thread> pool;
     for (unsigned t = 0; t < n_jobs; ++t) pool.emplace_back(worker);
     for (auto& t : pool) t.join();
-    int passed = 0;
-    int collisions = 0;
-    int zero = 0;
-    std::vector<double> times;
-    std::vector<double> scores;
-    for (const auto& j : results) {
-      if (j.value("passed", false)) ++passed;
-      const int c = j.value("collisions", 0);
-      collisions += c;
-      if (c == 0 && !j.contains("error")) ++zero;
-      if (j.value("passed", false)) {
-        times.push_back(j.value("elapsed_s", 0.0));
-        scores.push_back(j.value("score_s", 0.0));
+    nlohmann::json summary = batch::summarize(results, kind_name, batch_baseline);
+    if (shard) {
+      // A shard's own summary: merge skips it for the numbers and uses it to check that every
+      // shard of the batch is there.
+      summary["shard"] = shard->index;
+      summary["shards"] = shard->count;
+      summary["runs_total"] = std::max(runs, 0);
+      summary["seed0"] = seed0;
+    }
+    std::cout << summary.dump() << "\n";
+  });
+
+  // ---- merge ----
+  auto* merge = app.add_subcommand(
+      "merge",
+      "combine the JSON lines of batch shards: their runs sorted by seed, then the "
+      "summary one unsharded batch prints");
+  static std::vector<std::string> merge_files;
+  static bool summary_only = false;
+  merge->add_option("files", merge_files, "shard files (JSON lines of `batch --shard`)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  merge->add_flag("--summary-only", summary_only, "print the summary line only");
+  merge->callback([&exit_code] {
+    batch::Collected collected;
+    for (const auto& file : merge_files) {
+      std::ifstream in(file);
+      std::string why;
+      if (!in || !batch::read_lines(in, file, collected, &why)) {
+        std::cerr << (why.empty() ? file + ": cannot read" : why) << "\n";
+        exit_code = 2;
+        return;
       }
     }
-    const double n = std::max(1, runs);
-    nlohmann::json summary = {{"summary", true},
-                              {"kind", kind_name},
-                              {"baseline", batch_baseline},
-                              {"runs", runs},
-                              {"success_rate", passed / n},
-                              {"collisions", collisions},
-                              {"zero_collision_runs", zero},
-                              {"zero_collision_rate", zero / n},
-                              {"time_p50_s", percentile(times, 0.5)},
-                              {"time_p90_s", percentile(times, 0.9)},
-                              {"score_p50_s", percentile(scores, 0.5)},
-                              {"score_p90_s", percentile(scores, 0.9)}};
-    std::cout << summary.dump() << "\n";
+    const std::string problem = batch::check_collected(collected);
+    if (!problem.empty()) {
+      std::cerr << "merge: " << problem << "\n";
+      exit_code = 1;
+      return;
+    }
+    if (!summary_only) {
+      for (const auto& j : collected.runs) std::cout << j.dump() << "\n";
+    }
+    std::cout << batch::summarize(collected.runs, collected.kind, collected.baseline).dump()
+              << "\n";
   });
 }
 
