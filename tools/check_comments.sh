@@ -60,7 +60,7 @@ for lang in "${!group[@]}"; do
   awk -v lang="$lang" -v sq="'" -v documents="$documents" -v known_md="$known_md" '
     BEGIN {
       found = 0
-      n = split(known_md, k, " "); for (i = 1; i <= n; i++) md[k[i]] = 1
+      n = split(known_md, k, " "); for (i = 1; i <= n; i++) md[tolower(k[i])] = 1
     }
     FNR == 1 { in_block = 0; in_raw = 0; raw_end = ""; in_tpl = 0 }
     # Comment text of one line of C++ or JavaScript; keeps block, raw-string and template state.
