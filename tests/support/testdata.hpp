@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Locating real recordings (../shared/testdata) and the project's own files from tests.
+// Locating real recordings (the shared test data folder) and the project's own files from tests.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -22,7 +22,7 @@ inline std::filesystem::path source_dir() { return COXSWAIN_SOURCE_DIR; }
 }  // namespace coxswain::testing
 
 /// Skips the current test, naming the missing file, when the shared recordings are absent.
-/// Sets `var` to the full path of `relative` inside ../shared/testdata otherwise.
+/// Sets `var` to the full path of `relative` inside the shared test data folder otherwise.
 #define COXSWAIN_REQUIRE_TESTDATA(var, relative)                                              \
   std::filesystem::path var;                                                                  \
   do {                                                                                        \

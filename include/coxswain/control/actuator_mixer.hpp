@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Turn and thrust demands -> msg::ActuatorCommand pulse widths, for the two layouts of
-// msg::ActuatorLayout (boat.yaml `actuators`). Defaults follow docs/boat-model.md: ESC 1100-1900
+// msg::ActuatorLayout (boat.yaml `actuators`). Defaults follow docs/simulator.md: ESC 1100-1900
 // us, 1500 neutral, the team drove 1550-1880 us forward; servo about +-25 deg around centre.
 #include <array>
 #include <cstdint>
@@ -41,9 +41,9 @@ struct ServoConfig {
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
-/// Twin fixed thrusters, differential (document 004): v_port = v + r L_w / 2,
-/// v_stbd = v - r L_w / 2 with r the yaw rate, + = clockwise (to starboard). Document 004 writes
-/// v_left = v - omega L_w / 2 with omega counter-clockwise; the two are the same formula.
+/// Twin fixed thrusters, differential (the capstone report): v_port = v + r L_w / 2,
+/// v_stbd = v - r L_w / 2 with r the yaw rate, + = clockwise (to starboard). The capstone report
+/// writes v_left = v - omega L_w / 2 with omega counter-clockwise; the two are the same formula.
 struct TwinConfig {
   double track_width_m = 0.6;      // L_w, between the thruster axes
   double max_speed_mps = 1.5;      // surge speed at full forward on both sides

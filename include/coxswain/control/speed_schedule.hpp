@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Distance to go -> forward thrust setpoint, rate limited (documents 000 5.1.2: after a waypoint
-// switch the distance jumps and the thrust went from minimum to maximum at once; the boat lurched).
+// Distance to go -> forward thrust setpoint, rate limited (the KABOAT 2022 report, 5.1.2: after a
+// waypoint switch the distance jumps and the thrust went from minimum to maximum at once; the boat
+// lurched).
 #include <optional>
 #include <string>
 
@@ -16,8 +17,8 @@ struct SpeedScheduleParams {
   double max_thrust_frac = 1.0;  // at or beyond fast_distance_m
   double slow_distance_m = 2.0;
   double fast_distance_m = 12.0;
-  double rise_per_s = 0.2;  // thrust increase limit, fraction per second
-  double fall_per_s = 0.5;  // thrust decrease limit, fraction per second
+  double rise_per_s = 0.2;          // thrust increase limit, fraction per second
+  double fall_per_s = 0.5;          // thrust decrease limit, fraction per second
   double cruise_thrust_frac = 0.7;  // avoidance tasks, before the avoidance speed factor
 
   [[nodiscard]] std::optional<std::string> validate() const;

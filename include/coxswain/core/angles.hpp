@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The one place angles are wrapped. Convention (mission.md section 3): headings and bearings in
+// The one place angles are wrapped. Convention (docs/conventions.md): headings and bearings in
 // degrees, 0 = north (or the bow), clockwise (to starboard) positive, range (-180, 180].
 #include <numbers>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Named frames (mission.md section 3):
+// Named frames (docs/conventions.md):
 // - navigation frame: origin at a chosen point, X = north, Y = east (metres);
 // - body frame: origin at the sensor mount reference (bow), x forward, y starboard (metres);
 // - sensor frame: a sensor's own axes, related to the body frame by a MountTransform.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Shared shape of every device codec (style.md principle 1): a codec is pure. It takes bytes and
+// Shared shape of every device codec (docs/architecture.md): a codec is pure. It takes bytes and
 // returns at most one message per call plus how many bytes it consumed; it never does I/O, never
 // reads a clock, never logs and never allocates after construction. The caller (an adapter, a
 // test, a fuzzer or `coxswain decode`) loops:

@@ -2,7 +2,7 @@
 #pragma once
 // The seam between a device's protocol logic and its transport.
 //
-// A driver is three layers (style.md principle 1):
+// A driver is three layers (docs/architecture.md):
 //   codec      bytes <-> messages, pure (drivers/<device>/codec.*)
 //   session    the device's behaviour: start-up/configuration sequence, ACK waits, retries,
 //              silence detection, publishing decoded messages into the LatestStore. It does no

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The one angle-bin representation every avoidance strategy works on (mission.md section 4).
+// The one angle-bin representation every avoidance strategy works on (docs/missions.md).
 #include <array>
 #include <cstddef>
 #include <string>

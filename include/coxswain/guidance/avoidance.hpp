@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Reactive obstacle avoidance over one angle-bin representation (mission.md section 4):
+// Reactive obstacle avoidance over one angle-bin representation (docs/missions.md):
 // selection-based (the 2022 race algorithm), score-based (2022) and 2026 risk bins, plus a
 // deliberately faithful reproduction of the 2022 code's defects for comparison in the simulator.
-// Source: /work/shared/seeds/000 section 5.2.3-5.2.4 and 002 (course 1).
+// Source: the KABOAT 2022 report section 5.2.3-5.2.4 and 002 (course 1).
 #include <array>
 #include <cstdint>
 #include <optional>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Circling a buoy once (2026 plan, course 2, mission.md section 1): keep the camera-tracked buoy
+// Circling a buoy once (2026 plan, course 2, docs/missions.md): keep the camera-tracked buoy
 // at a set body bearing (the camera looks to port, -90 deg) and, when the lidar gives its range,
 // at a set distance; "line tracing" around it. Completion is the accumulated turn, integrated from
 // wrap-safe heading differences, reaching 360 deg -- not the heading crossing 0 twice, which a

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Entering the chosen dock (document 000 5.3): either pursue a point 1-2 m ahead along the ray
-// from a decision point into the slip (project the boat onto the ray, aim ahead of the
+// Entering the chosen dock (the KABOAT 2022 report 5.3): either pursue a point 1-2 m ahead along
+// the ray from a decision point into the slip (project the boat onto the ray, aim ahead of the
 // projection), or keep the marker on the image centre line (its body bearing at 0). Both stop
 // when the lidar range ahead falls under the stop distance (2026 plan: 0.3 m).
 #include <cstddef>

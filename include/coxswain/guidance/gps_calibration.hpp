@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// GPS offset calibration at the start point (mission.md section 4; document 000 5.1.2): the
+// GPS offset calibration at the start point (docs/missions.md; the KABOAT 2022 report 5.1.2): the
 // organisers' points are taken as exact, the boat sits on the known start point, and the mean
 // offset of its fixes from that point is subtracted from every later fix. The receiver was seen
 // biased 5-10 m, all points shifted one way.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Global planning over an occupancy grid (mission.md sections 4 and 6; seeds/004: A* on a
+// Global planning over an occupancy grid (docs/missions.md; the capstone report: A* on a
 // down-sampled cost map, its path followed by pure pursuit). The grid lives in the navigation
 // frame so obstacles persist while the boat turns; evidence decays so moved or spurious returns
 // fade; obstacles are inflated by the hull so a path is a path for the whole boat.

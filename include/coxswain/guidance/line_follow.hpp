@@ -3,7 +3,7 @@
 // Line following between two points: cross-track error and a look-ahead (LOS) desired heading,
 // with an optional integral term (ILOS, Borhaug et al. 2008) that removes the steady offset a
 // side current or a biased actuator would leave. Steering at the bearing to the next point
-// instead (the 2022 code) draws arcs when the boat is off the leg: mission.md section 4.
+// instead (the 2022 code) draws arcs when the boat is off the leg: docs/missions.md.
 #include <limits>
 #include <optional>
 #include <string>

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Pure-pursuit path tracking (seeds/004; mission.md section 4): aim at the point of the path one
-// look-ahead distance away; the arc through it has curvature k = 2 sin(alpha) / l_d, alpha being
-// the angle between the heading and that point. Short look-ahead oscillates, long cuts corners.
+// Pure-pursuit path tracking (the capstone report; docs/missions.md): aim at the point of the path
+// one look-ahead distance away; the arc through it has curvature k = 2 sin(alpha) / l_d, alpha
+// being the angle between the heading and that point. Short look-ahead oscillates, long cuts
+// corners.
 #include <cstddef>
 #include <span>
 #include <string>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Hopping-tour waypoint following (mission.md section 1 and 4): visit a route of points in order;
+// Hopping-tour waypoint following (docs/missions.md): visit a route of points in order;
 // a point counts inside its arrival radius; a point passed abeam within the slip radius counts as
 // missed and is skipped rather than circled back to; between points the boat follows the leg
 // (LineFollower) instead of the bare bearing.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The daemon's local control interface and live view (issues 6 and 7), all on one thread of its
+// The daemon's local control interface and live view, all on one thread of its
 // own (the "control thread", the single writer of LatestStore::operator_input):
 //  - a Unix stream socket taking line commands (see control_protocol.hpp), one answer line each;
 //  - an HTTP server (Boost.Beast) with the shore status page at GET /, GET /api/status and the

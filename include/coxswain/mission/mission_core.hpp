@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The heart of the daemon (issue 6): a hierarchical state machine run at the fixed tick.
+// The heart of the daemon: a hierarchical state machine run at the fixed tick.
 // Levels: safety (wait_for_start, hold, finished) above the mission, the mission a sequence of
 // tasks from the mission file (hopping, obstacle_course, course1, course2, docking), each task a
 // sequence of phases. Pure: a Snapshot and the tick time in; the actuator command (pulse widths

@@ -28,7 +28,7 @@ struct LidarScan {
   float min_range_m = 0.0F;
   std::uint32_t revolution = 0;  // counts revolutions since the driver started
   std::uint32_t point_count = 0;
-  /// Sorted by bearing ascending; the seam lies astern (see drivers issue).
+  /// Sorted by bearing ascending; the seam lies astern (see drivers/rplidar/scan_assembler.hpp).
   std::array<LidarPoint, kMaxPoints> points{};
 
   [[nodiscard]] bool push(const LidarPoint& p) {

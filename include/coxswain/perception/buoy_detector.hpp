@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Coloured buoys (red, green, yellow, orange, purple...) as blobs with a body-frame bearing.
-// Course 1 and 2 of mission.md track a purple buoy by its bearing only, so shape is not judged
-// beyond a solidity floor; a buoy half out of the frame is kept unless buoy_reject_edge is set.
+// Course 1 and 2 of docs/missions.md track a purple buoy by its bearing only, so shape is not
+// judged beyond a solidity floor; a buoy half out of the frame is kept unless buoy_reject_edge is
+// set.
 #include <opencv2/core.hpp>
 #include <vector>
 

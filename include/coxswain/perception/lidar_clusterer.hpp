@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Lidar clustering (mission.md section 4, after the source team's reduced obstacle_detector):
+// Lidar clustering (docs/missions.md, after the source team's reduced obstacle_detector):
 // (A) group neighbouring returns, (B) split each group at the point farthest from its chord,
 // (C) classify long pieces as walls, (D) split walls into bounded pieces; each final piece becomes
 // an ObstacleSegment in the body frame. Also fills the closest range per bearing bin.
@@ -68,7 +68,7 @@ struct LidarClusterParams {
   /// when that is smaller and nonzero) are dropped, as are returns inside `hull`.
   double min_range_m = 0.15;
   double max_range_m = 25.0;
-  /// Default: a 2.0 m x 1.08 m hull (boat-model.md) behind a bow-mounted lidar, with margin.
+  /// Default: a 2.0 m x 1.08 m hull (docs/simulator.md) behind a bow-mounted lidar, with margin.
   HullBox hull{-2.2, 0.1, -0.65, 0.65};
   /// RangeProfile bin width; 360 / width bins must fit RangeProfile::kMaxBins.
   double profile_bin_width_deg = 1.0;

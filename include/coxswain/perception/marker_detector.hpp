@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Docking-marker detection by classic vision (mission.md section 4, "Docking"): per-colour HSV
+// Docking-marker detection by classic vision (docs/missions.md, "Docking"): per-colour HSV
 // range -> morphology -> contours -> shape rules -> bearing. Works at any image size: the bearing
 // uses the actual frame width and areas are fractions of the actual frame.
 #include <opencv2/core.hpp>

@@ -50,7 +50,7 @@ struct ShapeParams {
 };
 
 /// Every tunable of the camera detectors. Units in names; defaults suit the marker test images
-/// (white placards, saturated fills) and the 80-deg USB camera of mission.md section 2.
+/// (white placards, saturated fills) and the 80-deg USB camera of docs/missions.md.
 struct VisionParams {
   static constexpr std::size_t kMaxColours = 10;
 
@@ -70,7 +70,7 @@ struct VisionParams {
   ShapeParams shape;
 
   /// Defaults: red (wrapping), orange, yellow, green, blue, purple, black (markers and buoys as
-  /// mission.md uses them). White is not searched: it is the placard background.
+  /// docs/missions.md uses them). White is not searched: it is the placard background.
   [[nodiscard]] static VisionParams defaults();
 
   [[nodiscard]] bool add_colour(const ColourRange& c);

@@ -96,7 +96,7 @@ HqNode capsule_node(int angle_q6, std::int64_t dist_q2, bool sync) {
 }  // namespace
 
 VarBitScale varbitscale_decode(std::uint32_t scaled) {
-  // (scaled threshold, target base, level) per protocols.md 1.8.
+  // (scaled threshold, target base, level) per docs/protocols.md 1.8.
   struct Row {
     std::uint32_t from;
     std::uint32_t base;
@@ -269,7 +269,7 @@ bool Decoder::on_single_answer() {
   }
 }
 
-// Standard nodes (protocols.md 1.6). In sync, a node is accepted when byte 0 has S != !S,
+// Standard nodes (docs/protocols.md 1.6). In sync, a node is accepted when byte 0 has S != !S,
 // byte 1 has C = 1 and the angle is below 360 deg (the SDK checks only the first two). These
 // checks are weak: structured data can pass them at a wrong byte offset. So after a loss of
 // sync the decoder slides one byte at a time and accepts only two consecutive candidates whose
@@ -402,7 +402,7 @@ bool Decoder::on_capsule() {
   return produced;
 }
 
-// Express legacy capsule (protocols.md 1.7), the SDK's q16 arithmetic: decodes prev_ using the
+// Express legacy capsule (docs/protocols.md 1.7), the SDK's q16 arithmetic: decodes prev_ using the
 // start angle of frame_.
 void Decoder::decode_express() {
   const int prev_q8 = start_angle_q8(prev_.data());
@@ -425,7 +425,7 @@ void Decoder::decode_express() {
   message_.nodes.count = n;
 }
 
-// Ultra capsule (protocols.md 1.8): 32 cabins x 3 samples, variable-bit-scale distances and a
+// Ultra capsule (docs/protocols.md 1.8): 32 cabins x 3 samples, variable-bit-scale distances and a
 // distance-dependent angle correction computed exactly as the SDK does (q16 radians -> degrees
 // through doubles, truncated).
 void Decoder::decode_ultra() {
@@ -478,7 +478,7 @@ void Decoder::decode_ultra() {
   message_.nodes.count = n;
 }
 
-// Dense capsule (protocols.md 1.9): 40 plain distances, angles interpolated, no correction.
+// Dense capsule (docs/protocols.md 1.9): 40 plain distances, angles interpolated, no correction.
 bool Decoder::decode_dense() {
   const int prev_q8 = start_angle_q8(prev_.data());
   const int step_q8 = diff_q8(prev_q8, start_angle_q8(frame_.data()));

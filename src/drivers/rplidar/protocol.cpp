@@ -48,7 +48,7 @@ ModelInfo model_info(const DeviceInfo& info) {
     write_name(m.name, 'C', major - 3, minor);
     m.native_baud = 460800U;
     // The SDK takes the A2/A3 branch and queries the accessory board; a C1 answers "no PWM" and
-    // spins under firmware control (protocols.md 1.11, inferred).
+    // spins under firmware control (docs/protocols.md 1.11, inferred).
     m.motor = MotorControl::kFirmware;
     m.query_acc_board = true;
     m.min_range_m = 0.05F;

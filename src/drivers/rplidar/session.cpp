@@ -117,7 +117,7 @@ void RplidarSession::on_open(DeviceLink& link, core::TimeNs now_ns) {
   assembler_->reset();
   decoder_.reset();
   // The lidar may still be streaming for a previous owner: STOP, let in-flight bytes arrive,
-  // then flush them (protocols.md 1.3: wait >= 1 ms; the SDK waits longer).
+  // then flush them (docs/protocols.md 1.3: wait >= 1 ms; the SDK waits longer).
   attempts_ = 1;
   send(link, encode_stop(), SessionStep::kStopSettle, now_ns, kStopSettleMs);
   note("opened: STOP sent, flushing after %lld ms", static_cast<long long>(kStopSettleMs));

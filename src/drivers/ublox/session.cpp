@@ -24,7 +24,7 @@ Generation generation_of(const config::GnssDeviceConfig& c) {
 
 bool is_nmea(msg::GnssSource s) { return s != msg::GnssSource::kUbxNavPvt; }
 
-// NAV-PVT on the wire: 6 header + 92 payload + 2 checksum bytes (protocols.md 3.3).
+// NAV-PVT on the wire: 6 header + 92 payload + 2 checksum bytes (docs/protocols.md 3.3).
 constexpr std::uint64_t kNavPvtFrameBytes = 100;
 
 }  // namespace

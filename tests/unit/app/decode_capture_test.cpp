@@ -110,7 +110,7 @@ TEST(DecodeCapture, UbloxFixesAcksAndErrors) {
 
 TEST(DecodeCapture, MyahrsSamplesAndResponses) {
   Bytes b;
-  // The example sentence of protocols.md 2.4 and a response.
+  // The example sentence of docs/protocols.md 2.4 and a response.
   append(b,
          "$RPYIMU,15,-1.55,-1.25,97.31,-0.0142,-0.0010,-0.9224,-0.9756,-0.3659,-0.8537,-8.4000,"
          "-46.8000,5.4000,38.3*36\r\n");

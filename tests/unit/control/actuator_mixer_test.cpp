@@ -91,8 +91,9 @@ TEST(ActuatorMixer, NoLeftBiasInServoPulses) {
   EXPECT_GT(naive_asymmetric, 30);
 }
 
-// Document 004: v_left = v - omega L_w / 2, v_right = v + omega L_w / 2 (omega counter-clockwise).
-// Our turn is clockwise-positive, so a starboard turn speeds up the port thruster.
+// The capstone report: v_left = v - omega L_w / 2, v_right = v + omega L_w / 2 (omega
+// counter-clockwise). Our turn is clockwise-positive, so a starboard turn speeds up the port
+// thruster.
 TEST(ActuatorMixer, TwinDifferentialFormula) {
   const MixerConfig c = twin_config();
   const ActuatorMixer m(c);

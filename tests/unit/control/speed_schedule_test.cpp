@@ -18,8 +18,9 @@ TEST(SpeedSchedule, LinearBetweenSlowAndFast) {
   EXPECT_DOUBLE_EQ(s.scheduled(100.0), 1.0);
 }
 
-// Document 000 5.1.2: just before a waypoint the thrust is near minimum; after the switch the next
-// waypoint is 40 m away. A bare schedule jumps to full thrust at once (the lurch); ours ramps.
+// The KABOAT 2022 report, 5.1.2: just before a waypoint the thrust is near minimum; after the
+// switch the next waypoint is 40 m away. A bare schedule jumps to full thrust at once (the lurch);
+// ours ramps.
 TEST(SpeedSchedule, NoLurchAfterWaypointSwitch) {
   SpeedScheduleParams p;
   p.rise_per_s = 0.2;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The shape every device emulator core has (style.md principle 7: the simulator injects bytes
+// The shape every device emulator core has (docs/architecture.md: the simulator injects bytes
 // beneath the transport, so the production codecs and sessions run in simulation).
 //
 // A core is pure: no I/O, no clock (time is passed in), deterministic for a seed. It is fed what

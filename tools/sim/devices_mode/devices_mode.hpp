@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Devices mode (issue 4): the simulated world in real time with every sensor behind its device
+// Devices mode: the simulated world in real time with every sensor behind its device
 // emulator, and the UNMODIFIED coxswain daemon, a child process, talking to them exactly as to
 // the boat's hardware:
 // - a pseudo-terminal per serial device (sim::pty::EmulatorHost, udev-like symlinks in

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Parameters of the simulated boat's 3-DOF manoeuvring model (surge, sway, yaw; Fossen's form,
-// /work/shared/docs/boat-model.md) and of its environment. Plain data; see otter_scaled() for
+// docs/simulator.md) and of its environment. Plain data; see otter_scaled() for
 // where every default comes from.
 #include <array>
 #include <cstdint>

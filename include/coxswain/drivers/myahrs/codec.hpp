@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Withrobot myAHRS+ AHRS: pure stream decoder for both output forms the device can interleave
-// on one serial line. Protocol: /work/shared/docs/protocols.md section 2 (ASCII framing 2.2,
+// on one serial line. Protocol: docs/protocols.md section 2 (ASCII framing 2.2,
 // responses 2.3, data sentences 2.4, binary frames 2.5) and section 6 (doc errors).
 //
 // ASCII:  `$NAME,seq,v1,...*CC\r\n` data, `~cmd,OK|ERROR,attr=value,...*CC\r\n` responses,
@@ -37,7 +37,7 @@ inline constexpr std::size_t kMaxFrameBytes = 512;
 inline constexpr std::size_t kMaxFields = 48;
 inline constexpr std::size_t kMaxAttributes = 32;
 
-/// Binary node scales (value = int16 / 32767 * range), protocols.md 2.5.
+/// Binary node scales (value = int16 / 32767 * range), docs/protocols.md 2.5.
 inline constexpr double kBinaryFullScale = 32767.0;
 inline constexpr double kEulerRangeDeg = 180.0;
 inline constexpr double kQuaternionRange = 1.0;
@@ -46,7 +46,7 @@ inline constexpr double kGyroRangeDps = 2000.0;
 inline constexpr double kMagRange = 300.0;
 inline constexpr double kTemperatureRangeC = 200.0;
 
-/// Binary node tag bits (protocols.md 2.5).
+/// Binary node tag bits (docs/protocols.md 2.5).
 inline constexpr std::uint8_t kTagTypeMask = 0x0F;
 inline constexpr std::uint8_t kTagList = 0x20;
 inline constexpr std::uint8_t kTagNextNode = 0x40;
@@ -85,7 +85,7 @@ struct SampleDetail {
 
 /// `name=value` of a response. Views into the decoder's buffer.
 struct Attribute {
-  std::string_view name;   // may contain spaces (`acc range`), protocols.md 2.2
+  std::string_view name;   // may contain spaces (`acc range`), docs/protocols.md 2.2
   std::string_view value;  // a list value keeps its commas: `fmt=EULER, IMU`
 };
 

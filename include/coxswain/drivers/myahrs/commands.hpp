@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// myAHRS+ request encoder and start-up plan. Protocol: /work/shared/docs/protocols.md section 2.2
+// myAHRS+ request encoder and start-up plan. Protocol: docs/protocols.md section 2.2
 // (framing, checksum) and 2.3 (commands, suggested start-up).
 //
 // A request is `@name[,arg...]*CC\r\n` with CC = XOR of every byte from '@' up to '*', as two
@@ -18,7 +18,7 @@
 namespace coxswain::drivers::myahrs {
 
 inline constexpr std::size_t kMaxCommandBytes = 96;
-/// Highest output rate; actual rate = kMaxRateHz / divider (protocols.md 2.1).
+/// Highest output rate; actual rate = kMaxRateHz / divider (docs/protocols.md 2.1).
 inline constexpr double kMaxRateHz = 100.0;
 inline constexpr int kMaxDivider = 1000;
 

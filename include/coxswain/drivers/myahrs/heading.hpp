@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// myAHRS+ attitude -> navigation heading. Protocol facts: /work/shared/docs/protocols.md section
-// 2.6 (repo copy: docs/protocols.md).
+// myAHRS+ attitude -> navigation heading. Protocol facts: docs/protocols.md section
+// 2.6.
 //
 // Frames:
 // - board (sensor) frame: x forward along the board's arrow, y right, z down (at rest az ~ -1 g

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // myAHRS+ device session (drivers/device_session.hpp): start-up exchange, decoding, heading,
-// publishing and health. Protocol facts: /work/shared/docs/protocols.md section 2.
+// publishing and health. Protocol facts: docs/protocols.md section 2.
 //
 // Start-up: the plan of drivers/myahrs/commands.hpp (@mode,T quiets the stream, @version,
 // @divider, @asc_out|@bin_out, then @mode,AC|BC), one request at a time, each waiting for its

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The lidar's side of the protocol (protocols.md 1.4-1.9): builds response descriptors, single
+// The lidar's side of the protocol (docs/protocols.md 1.4-1.9): builds response descriptors, single
 // answers, standard nodes and capsules. For device emulators (the simulator) and for tests, which
 // have no raw standard-mode capture to replay. Pure, fixed-size outputs.
 #include <array>

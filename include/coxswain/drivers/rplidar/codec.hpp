@@ -10,7 +10,7 @@
 // back to back until reset()/expect() (the caller sends STOP/RESET or a new command).
 // Measurements come out in the SDK's HQ-node form with the SDK's integer arithmetic, so the
 // recorded pyrplidar vectors match bit for bit (dtheta is unsigned and subtracted, per the SDK,
-// not the manual's sign bit: protocols.md 1.7 [conflict]).
+// not the manual's sign bit: docs/protocols.md 1.7 [conflict]).
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -127,7 +127,7 @@ class Decoder {
   Message message_;
 };
 
-/// Variable-bit-scale decode of a 12-bit ultra-capsule major value (protocols.md 1.8).
+/// Variable-bit-scale decode of a 12-bit ultra-capsule major value (docs/protocols.md 1.8).
 struct VarBitScale {
   std::uint32_t value_mm = 0;
   std::uint32_t level = 0;

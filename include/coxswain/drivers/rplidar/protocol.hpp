@@ -10,7 +10,7 @@
 
 namespace coxswain::drivers::rplidar {
 
-/// Request command bytes (protocols.md 1.3).
+/// Request command bytes (docs/protocols.md 1.3).
 enum class Command : std::uint8_t {
   kStop = 0x25,
   kReset = 0x40,
@@ -26,7 +26,7 @@ enum class Command : std::uint8_t {
   kGetAccBoardFlag = 0xFF,
 };
 
-/// Answer data types carried in the response descriptor (protocols.md 1.4).
+/// Answer data types carried in the response descriptor (docs/protocols.md 1.4).
 enum class AnswerType : std::uint8_t {
   kDevInfo = 0x04,
   kHealth = 0x06,
@@ -58,7 +58,7 @@ inline constexpr std::size_t kAccBoardFlagSize = 4;
 /// Longest LIDAR_CONF answer kept (u32 type + data); longer ones are counted as framing errors.
 inline constexpr std::size_t kMaxConfAnswerSize = 64;
 
-/// GET_LIDAR_CONF types used by the start sequence (protocols.md 1.5).
+/// GET_LIDAR_CONF types used by the start sequence (docs/protocols.md 1.5).
 enum class ConfType : std::uint32_t {
   kDesiredRotFreq = 0x01,
   kScanModeCount = 0x70,
@@ -84,7 +84,7 @@ struct HqNode {
 };
 
 enum class Family : std::uint8_t { kUnknown, kA, kC, kS, kT, kM };
-/// How the motor is started (protocols.md 1.11).
+/// How the motor is started (docs/protocols.md 1.11).
 enum class MotorControl : std::uint8_t {
   kDtr,         // A1 / no accessory board: clear DTR to spin, set DTR to stop
   kPwm,         // A2/A3 accessory board: SET_MOTOR_PWM
@@ -165,7 +165,7 @@ struct AccBoardFlag {
   [[nodiscard]] bool pwm_supported() const { return (flag & 1U) != 0; }
 };
 
-/// Standard node -> HQ node with the SDK's integer arithmetic (protocols.md 1.6).
+/// Standard node -> HQ node with the SDK's integer arithmetic (docs/protocols.md 1.6).
 [[nodiscard]] constexpr HqNode hq_from_standard(std::uint8_t sync_quality,
                                                 std::uint16_t angle_q6_checkbit,
                                                 std::uint16_t distance_q2) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// RPLIDAR request encoder (host -> lidar), protocols.md 1.2-1.3: `A5 cmd` for commands below
+// RPLIDAR request encoder (host -> lidar), docs/protocols.md 1.2-1.3: `A5 cmd` for commands below
 // 0x80, `A5 cmd N payload[N] xor` otherwise, xor = XOR of every preceding byte. Pure functions,
 // fixed-size result, no allocation.
 #include <array>

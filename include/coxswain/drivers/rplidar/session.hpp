@@ -83,7 +83,7 @@ class RplidarSession final : public DeviceSession {
   static constexpr std::uint32_t kMinPointsPerRevolution = 16;
   /// Samples a decoder error can reach back before it is noticed: two ultra capsules.
   static constexpr std::uint64_t kDecodeDelaySamples = 2 * 96;
-  /// A-series firmware < 1.17 has no GET_SAMPLERATE; the SDK assumes this (protocols.md 1.5).
+  /// A-series firmware < 1.17 has no GET_SAMPLERATE; the SDK assumes this (docs/protocols.md 1.5).
   static constexpr double kLegacySampleDurationUs = 476.0;
 
   RplidarSession(const config::LidarDeviceConfig& config, const core::MountTransform& lidar_mount,

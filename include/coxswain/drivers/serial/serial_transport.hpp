@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The thin Asio layer under every serial device driver (architecture.md "Drivers"): opens the
+// The thin Asio layer under every serial device driver (docs/architecture.md "Drivers"): opens the
 // udev-named port from config, reads and stamps bytes for the device's DeviceSession, writes
 // what the session asks, reopens with backoff after an unplug, tees raw bytes to a recorder and
 // publishes the device's health. Asio stays inside the implementation.

@@ -2,7 +2,7 @@
 #pragma once
 // Pure u-blox receiver stream decoder (UBX + NMEA 0183 + RTCM 3 mixed in one byte stream) and a
 // stand-alone RTCM 3 framer for forwarding corrections. Follows the codec convention of
-// coxswain/drivers/codec.hpp. Protocol facts: /work/shared/docs/protocols.md section 3
+// coxswain/drivers/codec.hpp. Protocol facts: docs/protocols.md section 3
 // (UBX frame 3.2, NAV-PVT 3.3, NAV-HPPOSLLH 3.4, ACK 3.5, NMEA 3.8, RTCM 3 3.9, plan 3.10).
 #include <array>
 #include <cstddef>

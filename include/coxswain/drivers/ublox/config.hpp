@@ -3,7 +3,7 @@
 // Pure encoders for u-blox receiver configuration: UBX frames with checksum, F9 CFG-VALSET (RAM
 // layer) and M8 legacy CFG-MSG / CFG-RATE / CFG-NAV5, and the ordered configuration plan an
 // adapter sends (each frame waits for its ACK-ACK, with retries). Protocol facts:
-// /work/shared/docs/protocols.md sections 3.2, 3.5, 3.6, 3.7.
+// docs/protocols.md sections 3.2, 3.5, 3.6, 3.7.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -37,7 +37,7 @@ inline constexpr UbxId kCfgValset{0x06, 0x8A};
 inline constexpr UbxId kNavPvt{0x01, 0x07};
 inline constexpr UbxId kNavHpPosLlh{0x01, 0x14};
 
-/// F9 configuration keys used here (protocols.md 3.6).
+/// F9 configuration keys used here (docs/protocols.md 3.6).
 namespace key {
 inline constexpr std::uint32_t kRateMeas = 0x30210001;        // U2 ms
 inline constexpr std::uint32_t kRateNav = 0x30210002;         // U2 cycles

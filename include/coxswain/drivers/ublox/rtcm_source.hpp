@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// RTCM 3 correction reader for an RTK rover (protocols.md 3.9): reads a correction stream from
+// RTCM 3 correction reader for an RTK rover (docs/protocols.md 3.9): reads a correction stream from
 //   - tcp://host:port   e.g. a local NTRIP client's output or a caster relay; reconnects with
 //                       exponential backoff after a refused connection, an error or EOF;
 //   - a named pipe      reopened (after backoff) whenever its writer goes away;

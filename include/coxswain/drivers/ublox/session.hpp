@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // u-blox GNSS device session (drivers/device_session.hpp): configures the receiver, decodes its
-// stream, publishes fixes and reports health. Protocol facts: /work/shared/docs/protocols.md
+// stream, publishes fixes and reports health. Protocol facts: docs/protocols.md
 // section 3.
 //
 // Start-up: the configuration plan of drivers/ublox/config.hpp (CFG-VALSET on an F9, legacy

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // myAHRS+ decoder tests. Vectors: the sample lines quoted in docs/protocols.md 2.2-2.4 and the
 // vendor SDK comments (checksums re-verified by hand), plus hand-built binary frames (no binary
-// capture exists, protocols.md 2.7).
+// capture exists, docs/protocols.md 2.7).
 #include "coxswain/drivers/myahrs/codec.hpp"
 
 #include <gtest/gtest.h>
@@ -291,7 +291,7 @@ TEST(MyahrsDecoder, RequestsAreCheckedButNotProduced) {
 // Negative ASCII cases.
 
 TEST(MyahrsDecoder, DocExamplesThatDoNotVerifyAreRejected) {
-  // protocols.md section 6: the SDK comment's ~calib line says *0E, the XOR is 0x25.
+  // docs/protocols.md section 6: the SDK comment's ~calib line says *0E, the XOR is 0x25.
   const std::string calib_body =
       "~calib,OK,sensor=A,param=4.882813e-04 0.000000e+00 0.000000e+00 0.000000e+00 4.882813e-04 "
       "0.000000e+00 0.000000e+00 0.000000e+00 4.882813e-04 0.000000e+00 0.000000e+00 "

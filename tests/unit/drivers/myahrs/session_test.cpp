@@ -69,7 +69,7 @@ TEST(MyahrsSession, StartupSendsEachRequestAfterTheOkOfThePrevious) {
   EXPECT_EQ(link.writes.size(), 1U);
   s.on_bytes(line("~mode,OK,mode=T"), kT0 + 2 * kMs, link);
   ASSERT_EQ(link.writes.size(), 2U);
-  EXPECT_EQ(link.writes[1], "@version*3A\r\n");  // protocols.md 2.2 example
+  EXPECT_EQ(link.writes[1], "@version*3A\r\n");  // docs/protocols.md 2.2 example
   s.on_bytes(line("~version,OK,product=myAHRS+,platform=myAHRS+m3,sn=123,ver=1.6,build=x"),
              kT0 + 3 * kMs, link);
   ASSERT_EQ(link.writes.size(), 3U);

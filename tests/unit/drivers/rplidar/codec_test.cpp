@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Hand-built RPLIDAR answer streams (protocols.md 1.4-1.9): no raw standard-mode capture exists,
-// so every byte here is built from the protocol tables. These tests always run.
+// Hand-built RPLIDAR answer streams (docs/protocols.md 1.4-1.9): no raw standard-mode capture
+// exists, so every byte here is built from the protocol tables. These tests always run.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -337,7 +337,7 @@ TEST(RplidarCodec, DenseAngleStepCheck) {
 }
 
 // Express legacy capsule built by hand: every sample's angle follows
-// theta_j = w_i + j * diff / 32 - dtheta_j / 8 (protocols.md 1.7).
+// theta_j = w_i + j * diff / 32 - dtheta_j / 8 (docs/protocols.md 1.7).
 TEST(RplidarCodec, HandBuiltExpressCapsules) {
   auto make = [](std::uint16_t start_q6, std::uint16_t dist_mm) {
     std::array<std::uint8_t, kCapsuleSize> c{};

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Request encoder against the worked examples of protocols.md 1.2 and the command table 1.3.
+// Request encoder against the worked examples of docs/protocols.md 1.2 and the command table 1.3.
 #include <gtest/gtest.h>
 
 #include <array>

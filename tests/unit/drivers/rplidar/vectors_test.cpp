@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Bit-exact agreement with the recorded pyrplidar capsule vectors (protocols.md 1.7-1.8,
+// Bit-exact agreement with the recorded pyrplidar capsule vectors (docs/protocols.md 1.7-1.8,
 // testdata/rplidar/pyrplidar_capsule_vectors.json). Skips when the shared test data is absent.
 #include <gtest/gtest.h>
 
@@ -124,7 +124,7 @@ TEST(RplidarVectors, DescriptorExamples) {
   }
 }
 
-// Hand-built ultra/varbitscale cases that always run (table of protocols.md 1.8).
+// Hand-built ultra/varbitscale cases that always run (table of docs/protocols.md 1.8).
 TEST(RplidarVectors, VarBitScaleTableEdges) {
   EXPECT_EQ(varbitscale_decode(0).value_mm, 0U);
   EXPECT_EQ(varbitscale_decode(511).value_mm, 511U);

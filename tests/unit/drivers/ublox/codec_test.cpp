@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Golden vectors from protocols.md section 3 and hand-built frames (RTK float/fixed, NMEA RTK,
+// Golden vectors from docs/protocols.md section 3 and hand-built frames (RTK float/fixed, NMEA RTK,
 // RTCM 3) for the u-blox decoder and RTCM 3 framer. Needs no recordings.
 #include "coxswain/drivers/ublox/codec.hpp"
 
@@ -20,15 +20,15 @@ using test::from_hex;
 using test::nmea;
 using test::Record;
 
-// protocols.md 3.3: first NAV-PVT of gpsd's ublox-neo-m8n.log.
+// docs/protocols.md 3.3: first NAV-PVT of gpsd's ublox-neo-m8n.log.
 constexpr std::string_view kNavPvtExample =
     "b56201075c0030985811e107071308320037030000002780ad2f03030a0eadeb9d5289bb31eb50630000df70000"
     "06c04000042060000f6ffffffe4ffffff260000001e000000aa053000e5000000685f0d00910000e0ac4c220000"
     "e000e000000080c855";
-// protocols.md 3.4: first NAV-HPPOSLLH of ublox-zed-f9p-hp.log.
+// docs/protocols.md 3.4: first NAV-HPPOSLLH of ublox-zed-f9p-hp.log.
 constexpr std::string_view kHpPosLlhExample =
     "b562011424000000000010e6b9095a41a0650aa5a7e432720000336b0000f20efc00a6350200d6f70100b445";
-// protocols.md 3.2: ACK-ACK for CFG-TMODE2.
+// docs/protocols.md 3.2: ACK-ACK for CFG-TMODE2.
 constexpr std::string_view kAckExample = "B5 62 05 01 02 00 06 3D 4B 74";
 
 std::vector<std::uint8_t> rtcm3_frame(std::uint16_t type, std::size_t payload_len,

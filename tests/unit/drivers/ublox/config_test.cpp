@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Configuration encoders against the worked frames of protocols.md 3.6/3.7, and the plan.
+// Configuration encoders against the worked frames of docs/protocols.md 3.6/3.7, and the plan.
 #include "coxswain/drivers/ublox/config.hpp"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The decoder against real recordings (../shared/testdata; skipped when absent):
+// The decoder against real recordings (the shared test data folder; skipped when absent):
 //  * gpsd regression captures: every TPV report with a position in gpsd's .chk must be matched
 //    by one of our fixes of the same epoch (time), with tolerances set by gpsd's print precision:
 //      lat/lon 1e-8 deg (gpsd prints 9 decimals; ~1 mm), eph vs hAcc 0.0011 m (3 decimals),
@@ -40,7 +40,7 @@ std::vector<std::uint8_t> read_file(const std::filesystem::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// gpsd .log: skip the leading '#' comment lines (protocols.md 3.10).
+/// gpsd .log: skip the leading '#' comment lines (docs/protocols.md 3.10).
 std::vector<std::uint8_t> read_gpsd_log(const std::filesystem::path& p) {
   auto bytes = read_file(p);
   std::size_t pos = 0;
@@ -211,7 +211,7 @@ TEST(UbloxRecordings, F9tRtcm3InterleavedFramesAllRecovered) {
     if (r.kind == MessageKind::kRtcm3) ++rtcm[r.rtcm_type];
     if (r.kind == MessageKind::kFix) ++pvt;
   }
-  // protocols.md 3.12: 1005, 1077, 1087, 1097, 1127, 1230, 4072 x 26 each; NAV-PVT x 26.
+  // docs/protocols.md 3.12: 1005, 1077, 1087, 1097, 1127, 1230, 4072 x 26 each; NAV-PVT x 26.
   for (const int type : {1005, 1077, 1087, 1097, 1127, 1230, 4072}) {
     EXPECT_EQ(rtcm[static_cast<std::uint16_t>(type)], 26) << type;
   }

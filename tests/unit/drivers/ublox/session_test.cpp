@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// UbloxSession in virtual time: the configuration exchange (golden frames from protocols.md 3.6,
-// ACK waits, retries, NAKs), fix publishing and its NAV-PVT-over-NMEA rule, stamping,
-// split-anywhere equivalence, error counting, silence (stale, reopen), RTCM forwarding, and the
-// session against the pure receiver emulator (tools/sim/devices/ublox) and against real gpsd
-// captures.
+// UbloxSession in virtual time: the configuration exchange (golden frames from
+// docs/protocols.md 3.6, ACK waits, retries, NAKs), fix publishing and its NAV-PVT-over-NMEA rule,
+// stamping, split-anywhere equivalence, error counting, silence (stale, reopen), RTCM forwarding,
+// and the session against the pure receiver emulator (tools/sim/devices/ublox) and against real
+// gpsd captures.
 #include "coxswain/drivers/ublox/session.hpp"
 
 #include <gtest/gtest.h>
@@ -73,7 +73,7 @@ TEST(UbloxSession, F9PlanSendsGoldenFramesEachAfterItsAck) {
   CaptureLink link;
   s.on_open(link, kT0);
   ASSERT_EQ(link.writes.size(), 1U);
-  // protocols.md 3.6: "set 10 Hz in RAM".
+  // docs/protocols.md 3.6: "set 10 Hz in RAM".
   EXPECT_EQ(link.writes[0], from_hex("B5 62 06 8A 0A 00 00 01 00 00 01 00 21 30 64 00 51 B9"));
   EXPECT_EQ(health_of(s, kT0).state, msg::DeviceState::kConfiguring);
   // An ACK for another message does not advance the plan.
@@ -85,7 +85,7 @@ TEST(UbloxSession, F9PlanSendsGoldenFramesEachAfterItsAck) {
     s.on_bytes(ack(kCfgValset), kT0 + static_cast<core::TimeNs>(i) * 20 * kMs, link);
     EXPECT_EQ(link.writes.size(), std::min(i + 1, steps));
   }
-  // protocols.md 3.6: "NAV-PVT on USB every epoch (RAM)" is the last step.
+  // docs/protocols.md 3.6: "NAV-PVT on USB every epoch (RAM)" is the last step.
   EXPECT_EQ(link.writes.back(), from_hex("B5 62 06 8A 09 00 00 01 00 00 09 00 91 20 01 55 52"));
   EXPECT_FALSE(s.configuring());
   EXPECT_EQ(s.config_failures(), 0U);

@@ -136,7 +136,8 @@ TEST(GpsCalibration, OffsetFromFixesAtTheStartPoint) {
   GpsCalibration cal({}, {0, 0});
   for (int i = 0; i < 30; ++i) {
     const double jitter = 0.2 * std::sin(i * 1.3);
-    cal.add({3.0 + jitter, 4.0 - jitter});  // document 000's example: (3, 4) at the origin
+    cal.add(
+        {3.0 + jitter, 4.0 - jitter});  // the KABOAT 2022 report's example: (3, 4) at the origin
   }
   const CalibrationResult r = cal.result();
   ASSERT_EQ(r.status, CalibrationStatus::kOk) << to_string(r.status);

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Reads the source team's recorded run (../shared/testdata/peer/tricat221-0223-scans.jsonl, see
-// its README entry): ROS LaserScan records and the obstacle lists their node published for them.
-// Shared by the lidar tests and bench_lidar_clustering. Test/tool code: allocates freely.
+// Reads the source team's recorded run (the shared test data
+// folder/peer/tricat221-0223-scans.jsonl, see its README entry): ROS LaserScan records and the
+// obstacle lists their node published for them. Shared by the lidar tests and
+// bench_lidar_clustering. Test/tool code: allocates freely.
 //
 // Frames. rplidar_ros publishes in frame `laser` with theta_ros = pi - theta_raw (raw RPLIDAR
 // angles run clockwise from the lidar's front), so the lidar's front is at theta_ros = +-pi. On

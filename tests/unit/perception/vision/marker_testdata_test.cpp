@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// Marker detection on the shared images of ../shared/testdata/markers, judged against labels.csv.
-// Skips when the shared folder is absent. Every clean synthetic signdet_* image and the simulator
-// render must be exactly right; the real photo and the SUAS pages are measured and reported.
+// Marker detection on the shared images of the shared test data folder/markers, judged against
+// labels.csv. Skips when the shared folder is absent. Every clean synthetic signdet_* image and the
+// simulator render must be exactly right; the real photo and the SUAS pages are measured and
+// reported.
 #include <gtest/gtest.h>
 
 #include <algorithm>

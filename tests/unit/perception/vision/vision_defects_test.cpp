@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Each vision defect of the 2022 code (issue 5): a case the naive pipeline fails and ours passes.
-// The naive pipeline is the one mission.md section 4 describes and the source team wrote: one HSV
+// Each vision defect of the 2022 code: a case the naive pipeline fails and ours passes.
+// The naive pipeline is the one docs/missions.md describes and the source team wrote: one HSV
 // box per colour (cv::inRange, so no hue wrap), opening and closing, the largest contour of the
 // colour whatever its shape, the shape from the vertex count alone (3 triangle, 4 rectangle, 12
 // cross, anything else circle), and the bearing from a hard-coded 640-pixel image width.

@@ -160,7 +160,7 @@ TEST(CameraSim, GlareWashesOutBlurAndNoiseAreSeeded) {
 }
 
 TEST(CameraSim, ModerateGlareStillDetectedSevereGlareWashesColoursOut) {
-  // mission.md section 2: strong sun washes colours out. The default HSV floors are set for
+  // docs/missions.md: strong sun washes colours out. The default HSV floors are set for
   // moderately washed-out colours; a near-grey image must lose them.
   const world::World w = dock_world(4.0, 0.5, msg::Colour::kRed, msg::Shape::kTriangle);
   const core::NavPose pose{{0.0, 0.0}, 0.0};

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Cost of LidarClusterer::process per scan: on the source team's recorded run (peer/, 174 real
-// scans of 1360 beams; skipped with a message when ../shared/testdata is absent) and on synthetic
-// scans. Each benchmark also reports the per-call median and p99 (manual percentile counter), since
-// the mean hides the tail that matters for a 10 Hz loop.
+// scans of 1360 beams; skipped with a message when the shared test data folder is absent) and on
+// synthetic scans. Each benchmark also reports the per-call median and p99 (manual percentile
+// counter), since the mean hides the tail that matters for a 10 Hz loop.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

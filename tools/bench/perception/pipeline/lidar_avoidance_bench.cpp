@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // What one lidar tick costs the mission core on real data: LidarClusterer::process alone, and
 // followed by Avoidance::decide for each strategy (selection, score, risk_bin), on the source
-// team's recorded run (../shared/testdata/peer/, 174 scans of 1360 beams from the water). Each
-// iteration is one scan, timed on its own, so the median and p99 counters are per scan: the mean
-// Google Benchmark prints hides the tail that matters for a 10 Hz loop. Skipped, with a message,
-// when the recording is absent.
+// team's recorded run (the shared test data folder/peer/, 174 scans of 1360 beams from the water).
+// Each iteration is one scan, timed on its own, so the median and p99 counters are per scan: the
+// mean Google Benchmark prints hides the tail that matters for a 10 Hz loop. Skipped, with a
+// message, when the recording is absent.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Byte-level Arduino (coxswain firmware) emulator core for the simulator (style.md principle 7).
+// Byte-level Arduino (coxswain firmware) emulator core for the simulator (docs/architecture.md).
 // Protocol: tools/arduino/PROTOCOL.md. It runs the firmware's own decision core
 // (drivers::arduino::FirmwareLogic, the very header the sketch compiles) and the sketch's frame
 // handling, so the 300 ms failsafe, the RC-absent rule, the boot hold and the sequence counting

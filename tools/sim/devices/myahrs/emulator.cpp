@@ -17,7 +17,8 @@ namespace {
 
 namespace codec = drivers::myahrs;
 
-// Sensitivities printed by `@sensitivity` and used for `$RIIMU` / node r (protocols.md 2.3-2.4).
+// Sensitivities printed by `@sensitivity` and used for `$RIIMU` / node r
+// (docs/protocols.md 2.3-2.4).
 constexpr double kAccelGPerLsb = 4.882813e-4;
 constexpr double kGyroDpsPerLsb = 6.097561e-2;
 constexpr double kMagUtPerLsb = 0.3;
@@ -359,7 +360,7 @@ void Emulator::emit_ascii() {
     for (const double v : s.accel_g) t.add(",%d", static_cast<int>(to_i16(v / kAccelGPerLsb)));
     for (const double v : s.gyro_dps) t.add(",%d", static_cast<int>(to_i16(v / kGyroDpsPerLsb)));
     for (const double v : s.mag_ut) t.add(",%d", static_cast<int>(to_i16(v / kMagUtPerLsb)));
-    t.add(",0");  // raw temperature scale is undocumented (protocols.md 2.4)
+    t.add(",0");  // raw temperature scale is undocumented (docs/protocols.md 2.4)
   }
   put_line(t.buf.data(), t.n, true);
 }

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Byte-level myAHRS+ emulator core for the simulator (style.md principle 7: the simulator injects
+// Byte-level myAHRS+ emulator core for the simulator (docs/architecture.md: the simulator injects
 // bytes beneath the transport so the production codec runs). Protocol: docs/protocols.md
-// section 2 (/work/shared/docs/protocols.md). Pure: no I/O, no clock (time is passed in), no
+// section 2 (docs/protocols.md). Pure: no I/O, no clock (time is passed in), no
 // allocation after construction, deterministic for a given seed.
 //
 // Behaviour emulated:
@@ -48,7 +48,7 @@ struct EmulatorFaults {
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
-/// Power-on state (the real sensor's volatile settings: see protocols.md 2.1) and faults.
+/// Power-on state (the real sensor's volatile settings: see docs/protocols.md 2.1) and faults.
 struct EmulatorConfig {
   bool binary = false;     // mode letter A/B
   bool continuous = true;  // mode letter C/T

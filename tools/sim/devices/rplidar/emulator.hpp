@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Byte-level RPLIDAR emulator core for the simulator (style.md principle 7). Protocol:
+// Byte-level RPLIDAR emulator core for the simulator (docs/architecture.md). Protocol:
 // docs/protocols.md section 1. Pure: no I/O, no clock (time is passed in), deterministic for a
 // seed; buffers are fixed after construction (set_range_source stores one std::function).
 //

@@ -27,7 +27,7 @@ constexpr std::uint8_t kNmeaClass = 0xF0;
 constexpr std::uint8_t kNmeaGgaId = 0x00;
 constexpr std::uint8_t kNmeaRmcId = 0x04;
 
-// VALSET keys this receiver knows (protocols.md 3.6). Anything else is NAKed.
+// VALSET keys this receiver knows (docs/protocols.md 3.6). Anything else is NAKed.
 constexpr std::array<std::uint32_t, 27> kKnownKeys{
     ub::key::kRateMeas,
     ub::key::kRateNav,
@@ -451,7 +451,7 @@ void Emulator::handle_ubx(std::span<const std::uint8_t> frame) {
   ++stats_.host_frames;
   const std::uint8_t cls = frame[2];
   const std::uint8_t id = frame[3];
-  if (cls != 0x06) return;  // only CFG input is acknowledged (protocols.md 3.5)
+  if (cls != 0x06) return;  // only CFG input is acknowledged (docs/protocols.md 3.5)
   const auto p = frame.subspan(6, frame.size() - 8);
   bool ok = false;
   switch (id) {

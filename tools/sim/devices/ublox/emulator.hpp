@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Byte-level u-blox receiver emulator core (M8 or ZED-F9P) for the simulator. Protocol:
-// /work/shared/docs/protocols.md section 3. Pure: no I/O, no clock (time is passed in), no
+// docs/protocols.md section 3. Pure: no I/O, no clock (time is passed in), no
 // allocation after construction (a capture is loaded by its owner beforehand), deterministic for
 // a seed.
 //
@@ -11,7 +11,7 @@
 // - CFG-VALSET (F9 only: an M8, protocol < 27, does not know it and NAKs it), CFG-MSG,
 //   CFG-RATE, CFG-PRT, CFG-NAV5 answered with ACK-ACK, or ACK-NAK when malformed (wrong length,
 //   unknown VALSET key, impossible rate). The F9 still accepts these legacy messages
-//   (protocols.md 3.7 "still accepted on F9 for some items"; a CFG-PRT baud change is not
+//   (docs/protocols.md 3.7 "still accepted on F9 for some items"; a CFG-PRT baud change is not
 //   honoured there, which this core has no baud to model anyway). Other CFG messages: NAK.
 //   Polls (CFG-MSG 2 bytes, CFG-RATE/CFG-PRT empty or 1 byte) are answered with the current
 //   setting then ACK-ACK;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The u-blox receiver emulator core checked through the production decoder: golden frames from
-// protocols.md 3.2/3.6/3.7, ACK/NAK rules per model, split-anywhere host input, epochs at the
+// docs/protocols.md 3.2/3.6/3.7, ACK/NAK rules per model, split-anywhere host input, epochs at the
 // configured rate decoding to the truth (UBX and NMEA), faults, RTCM counting and capture replay.
 #include "sim/devices/ublox/emulator.hpp"
 
@@ -71,14 +71,14 @@ Decoded decode(std::span<const std::uint8_t> bytes) {
 
 TEST(UbloxEmulator, AnswersTheProtocolDocumentsGoldenFramesWithAckAck) {
   Emulator e2;  // F9
-  // protocols.md 3.7: CFG-RATE 5 Hz GPS time, answered first thing (before the t = 0 epoch's
+  // docs/protocols.md 3.7: CFG-RATE 5 Hz GPS time, answered first thing (before the t = 0 epoch's
   // NMEA) with ACK-ACK for 06 08 (Fletcher worked by hand as for the doc's 06 3D example).
   e2.receive(hex("B5 62 06 08 06 00 C8 00 01 00 01 00 DE 6A"), 0);
   const Bytes out = bytes_of(e2.poll(0));
   ASSERT_GE(out.size(), 10U);
   EXPECT_EQ(Bytes(out.begin(), out.begin() + 10), hex("B5 62 05 01 02 00 06 08 16 3F"));
   EXPECT_EQ(e2.meas_period_ms(), 200);
-  // protocols.md 3.7: CFG-MSG NAV-PVT every epoch; 3.6: VALSET 10 Hz and NAV-PVT on USB.
+  // docs/protocols.md 3.7: CFG-MSG NAV-PVT every epoch; 3.6: VALSET 10 Hz and NAV-PVT on USB.
   e2.receive(hex("B5 62 06 01 03 00 01 07 01 13 51"), 0);
   e2.receive(hex("B5 62 06 8A 0A 00 00 01 00 00 01 00 21 30 64 00 51 B9"), 0);
   e2.receive(hex("B5 62 06 8A 09 00 00 01 00 00 09 00 91 20 01 55 52"), 0);
@@ -383,7 +383,7 @@ TEST(UbloxEmulatorRecordings, ReplaysTheGpsdNeoM8nCaptureByteExactPacedByItow) {
     if (s.produced && ref.message().kind == ub::MessageKind::kFix)
       ref_fixes.push_back(ref.message().fix);
   }
-  ASSERT_EQ(ref_fixes.size(), 24U);  // protocols.md 3.12: NAV-PVT x24
+  ASSERT_EQ(ref_fixes.size(), 24U);  // docs/protocols.md 3.12: NAV-PVT x24
   // The capture spans the iTOW range of its NAV-PVT frames (5 Hz here).
   EXPECT_EQ(capture.duration_ns(),
             core::ms_to_ns(ref_fixes.back().itow_ms - ref_fixes.front().itow_ms));
