@@ -206,8 +206,12 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static std::string strategy;
   static bool no_disturbances = false;
   static std::string batch_mission;
-  batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
-      ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+  batch
+      ->add_option("--kind", kind_name,
+                   "hopping, obstacle, docking, kaboat2026, or the obstacle families deadend, "
+                   "gapwall")
+      ->check(
+          CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026", "deadend", "gapwall"}));
   batch->add_option("--runs", runs, "number of generated courses");
   batch->add_option("--seed0", seed0, "seed of the first course (run i uses seed0 + i)");
   batch->add_option("--jobs", jobs, "threads (default: all cores)");
@@ -234,6 +238,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
       kind = world::CourseKind::kKaboat2026;
       mission_name = "kaboat2026.yaml";
     }
+    world::GeneratorParams generator;
+    generator.family = world::find_generator_kind(kind_name)->family;
     config::ConfigErrors errors;
     config::Configuration base;
     sensors::SensorConfig sensor_config;
@@ -268,7 +274,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
         const std::uint64_t s = seed0 + static_cast<std::uint64_t>(i);
         nlohmann::json j;
         try {
-          world::Course course = world::generate_course(kind, s);
+          world::Course course = world::generate_course(kind, s, generator);
           runner::MissionRunOptions options;
           options.sensors = sensor_config;
           if (!no_disturbances) apply_default_disturbances(course, options.sensors, s);
@@ -283,6 +289,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                {"kind", kind_name},
                {"baseline", batch_baseline},
                {"passed", r.passed},
+               {"failure", r.failure},
                {"completed", sc.completed},
                {"collisions", sc.collisions},
                {"elapsed_s", sc.elapsed_s},
