@@ -117,6 +117,32 @@ TEST(CollisionResponse, AGlancingHullSlidesAlongTheWall) {
   EXPECT_GT(m.truth().vel_north_mps, 0.5);
 }
 
+TEST(CollisionResponse, AHullAlongsideAWallCanTurnAwayFromIt) {
+  // The port side resting on a wall along east = -0.4, heading north; rudder hard to starboard,
+  // compared with the same manoeuvre in open water.
+  auto sail = [](double wall_east_m, double seconds) {
+    const World w = walled({{-50.0, wall_east_m}, {100.0, wall_east_m}});
+    const CollisionResponse response(w, config::HullConfig{});
+    dynamics::BoatModel m = boat_at({{0.0, 0.0}, 0.0});
+    m.set_pulses({1900, 1800});
+    for (int i = 0; i < static_cast<int>(seconds * 100.0); ++i) {
+      m.step();
+      (void)response.resolve(m);
+      for (const NavPoint& p : outline_at(m.truth().pose)) {
+        EXPECT_GE(p.east_m, wall_east_m - 1e-9);
+      }
+    }
+    return m.truth();
+  };
+  // The wall takes the stern's side force (a stern-steered boat cannot simply steer off a wall
+  // it lies against: it pivots about the stern, slowly), but the bow does turn out and leave.
+  const dynamics::TruthState open = sail(-50.0, 6.0);
+  const dynamics::TruthState walled_in = sail(-0.4, 6.0);
+  EXPECT_GT(walled_in.pose.heading_deg, 45.0);
+  EXPECT_GT(walled_in.cg.east_m, 1.0);
+  EXPECT_LT(walled_in.pose.heading_deg, open.pose.heading_deg);
+}
+
 TEST(CollisionResponse, ABuoyStopsAHullDrivenStraightAtIt) {
   World w;
   w.buoys.push_back({{4.0, 0.0}, 0.3, 0.6, msg::Colour::kOrange});
