@@ -399,6 +399,9 @@ std::string failure_reason(const ScoreResult& r, bool mission_finished) {
       if (c.timed_out) course = c.name;
     }
     o << "out of time in " << course;
+  } else if (r.rules == Rules::k2022Docking && !r.docked && !r.docks.empty() &&
+             !r.docks.back().ok) {
+    o << "entered dock " << r.docks.back().name << ", not the target";
   } else if (mission_finished && !r.pending.empty()) {
     o << "the mission finished but the judge, on the true track, never saw " << r.pending
       << " passed";

@@ -378,6 +378,14 @@ TEST(FailureReason, AMissionThatFinishedWithTheFinishGateUncrossedFails) {
   EXPECT_NE(why.find("gate finish"), std::string::npos) << why;
 }
 
+TEST(FailureReason, NamesTheWrongDockTheBoatEntered) {
+  ScoreResult r;
+  r.rules = Rules::k2022Docking;
+  r.docks.push_back({"C", 50.0, false});
+  r.pending = "the target dock";
+  EXPECT_EQ(failure_reason(r, true), "entered dock C, not the target");
+}
+
 TEST(FailureReason, IsEmptyForACompletedRun) {
   const world::World w = obstacle_world();
   Scorer s(w, hull());
