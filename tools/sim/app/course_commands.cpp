@@ -72,18 +72,21 @@ void add_course_commands(CLI::App& app, int& exit_code) {
   static std::string out_path;
   static bool narrow = false;
   static double beam_m = 0.8;
-  gen->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
-      ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+  gen->add_option("--kind", kind_name,
+                  "hopping, obstacle, docking, kaboat2026, or the obstacle families deadend, "
+                  "gapwall")
+      ->check([](const std::string& name) {
+        return world::find_generator_kind(name) ? std::string() : "unknown kind " + name;
+      });
   gen->add_option("--seed", seed, "random seed (same seed, same course)");
   gen->add_flag("--narrow", narrow, "obstacle: the narrow preliminary field");
   gen->add_option("--beam", beam_m, "hull beam the course must leave room for (m)");
   gen->add_option("-o,--output", out_path, "course file to write")->required();
   gen->callback([&exit_code] {
-    world::CourseKind kind = world::CourseKind::kObstacle;
-    if (kind_name == "hopping") kind = world::CourseKind::kHopping;
-    if (kind_name == "docking") kind = world::CourseKind::kDocking;
-    if (kind_name == "kaboat2026") kind = world::CourseKind::kKaboat2026;
+    const world::GeneratorKind k = *world::find_generator_kind(kind_name);
+    const world::CourseKind kind = k.kind;
     world::GeneratorParams params;
+    params.family = k.family;
     params.narrow = narrow;
     params.hull_beam_m = beam_m;
     const world::Course c = world::generate_course(kind, seed, params);

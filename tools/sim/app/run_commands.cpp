@@ -206,8 +206,12 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   static std::vector<std::string> set_files;
   static double batch_max_time_s = 900.0;
   auto* kind_option =
-      batch->add_option("--kind", kind_name, "hopping, obstacle, docking or kaboat2026")
-          ->check(CLI::IsMember({"hopping", "obstacle", "docking", "kaboat2026"}));
+      batch
+          ->add_option("--kind", kind_name,
+                       "hopping, obstacle, docking, kaboat2026, or the obstacle families "
+                       "deadend, gapwall")
+          ->check(CLI::IsMember(
+              {"hopping", "obstacle", "docking", "kaboat2026", "deadend", "gapwall"}));
   batch
       ->add_option("--course", batch_course,
                    "sail this course file on every run (seeds vary the disturbances and noise; "
@@ -277,6 +281,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
         return;
       }
     }
+    world::GeneratorParams generator;
+    if (const auto found = world::find_generator_kind(kind_name)) generator.family = found->family;
     config::Configuration base;
     sensors::SensorConfig sensor_config;
     load_common(files, base, sensor_config, errors);
@@ -330,7 +336,8 @@ void add_run_commands(CLI::App& app, int& exit_code) {
             seed0 + static_cast<std::uint64_t>(indices[static_cast<std::size_t>(k)]);
         nlohmann::json j;
         try {
-          world::Course course = fixed_course ? *fixed_course : world::generate_course(kind, s);
+          world::Course course =
+              fixed_course ? *fixed_course : world::generate_course(kind, s, generator);
           runner::MissionRunOptions options;
           options.sensors = sensor_config;
           if (!no_disturbances) apply_default_disturbances(course, options.sensors, s);
@@ -350,6 +357,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                {"kind", kind_name},
                {"baseline", batch_baseline},
                {"passed", r.passed},
+               {"failure", r.failure},
                {"completed", sc.completed},
                {"collisions", sc.collisions},
                {"elapsed_s", sc.elapsed_s},

@@ -24,6 +24,7 @@
 #include "sim/sensors/imu_sim.hpp"
 #include "sim/sensors/lidar_sim.hpp"
 #include "sim/sensors/sensor_config.hpp"
+#include "sim/world/collision.hpp"
 #include "sim/world/course.hpp"
 
 namespace coxswain::sim::devices_mode {
@@ -101,6 +102,7 @@ std::string outcome_json(const DevicesOutcome& o) {
   nlohmann::json j;
   j["score"] = scoring::to_json(o.score);
   j["end"] = std::string(end_reason_name(o.end));
+  j["failure"] = scoring::failure_reason(o.score, o.end == EndReason::kMissionFinished);
   j["elapsed_s"] = o.elapsed_s;
   j["world"] = {{"steps", o.world_steps},
                 {"late_steps", o.world_late_steps},
@@ -240,6 +242,8 @@ DevicesMode::DevicesMode(DevicesModeOptions options) {
   sensor_config.gnss.seed += options.seed * 1000;
   sensor_config.imu.seed += options.seed * 1000;
   sensor_config.camera.seed += options.seed * 1000;
+  // The course's own sensor conditions win over the sensors file.
+  sensors::apply_conditions(course.world.conditions, sensor_config);
   if (const std::string why = sensor_config.validate(); !why.empty()) {
     throw std::runtime_error("sensors: " + why);
   }
@@ -299,6 +303,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
                             core::ns_to_sec(s.options.dynamics_step_ns));
   model.reset(w.start);
   scoring::Scorer scorer(w, s.boat.hull);
+  const world::CollisionResponse collisions(w, s.boat.hull);
   sensors::LidarSim lidar(s.sensors.lidar, w);
   sensors::GnssSim gnss(s.sensors.gnss, w.origin);
   sensors::ImuSim imu(s.sensors.imu);
@@ -375,6 +380,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
     }
     model.set_pulses(pulses);
     model.step();
+    (void)collisions.resolve(model);
     ++out.world_steps;
     const core::TimeNs t = model.time_ns();
     truth = model.truth();

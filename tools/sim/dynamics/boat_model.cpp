@@ -242,6 +242,39 @@ void BoatModel::step() {
   accel_body_ = {d[3] - x1[5] * x1[4], d[4] + x1[5] * x1[3]};
 }
 
+double BoatModel::resolve_contact(core::NavPoint normal, core::NavPoint point, double depth_m,
+                                  double restitution) {
+  // Lever arm of the contact point from the centre of gravity, before the push-out (the push
+  // moves both alike).
+  const double rn = point.north_m - state_.north_m;
+  const double re = point.east_m - state_.east_m;
+  state_.north_m += normal.north_m * depth_m;
+  state_.east_m += normal.east_m * depth_m;
+  const double c = std::cos(state_.psi_rad);
+  const double s = std::sin(state_.psi_rad);
+  // Body frame (x forward, y starboard).
+  const double rx = c * rn + s * re;
+  const double ry = -s * rn + c * re;
+  const double nx = c * normal.north_m + s * normal.east_m;
+  const double ny = -s * normal.north_m + c * normal.east_m;
+  const double cn = disturbances_.current_north_mps();
+  const double ce = disturbances_.current_east_mps();
+  // Velocity over ground of the contact point: the obstacle is fixed to the ground, not the water.
+  const double u = state_.u_r_mps + c * cn + s * ce;
+  const double v = state_.v_r_mps - s * cn + c * ce;
+  const double r = state_.r_radps;
+  const double vn = (u - r * ry) * nx + (v + r * rx) * ny;
+  if (vn >= 0.0) return 0.0;
+  const double arm = rx * ny - ry * nx;  // yaw moment of a unit force along normal
+  const double k =
+      nx * nx / params_.m11_kg + ny * ny / params_.m22_kg + arm * arm / params_.m66_kgm2;
+  const double j = -(1.0 + restitution) * vn / k;
+  state_.u_r_mps += j * nx / params_.m11_kg;
+  state_.v_r_mps += j * ny / params_.m22_kg;
+  state_.r_radps += j * arm / params_.m66_kgm2;
+  return -vn;
+}
+
 TruthState BoatModel::truth() const {
   TruthState t;
   t.stamp_ns = time_ns();

@@ -118,6 +118,15 @@ class BoatModel {
   void set_pulses(const std::array<std::uint16_t, 2>& pulse_us);
   /// One fixed step of dt_s.
   void step();
+  /// A contact with something fixed to the ground (wall, dock, buoy): the hull overlaps it by
+  /// `depth_m` along `normal` (unit, navigation frame, from the obstacle into the boat) at
+  /// `point` (navigation frame). Moves the boat out by depth_m along normal, then, when the
+  /// contact point moves into the obstacle, applies the impulse along normal (rigid-body masses
+  /// incl. added mass, about the centre of gravity) that leaves it moving out at `restitution`
+  /// times its speed into it. No friction: motion along the obstacle is kept. Returns the speed
+  /// of the contact point into the obstacle before the impulse (0 when separating).
+  double resolve_contact(core::NavPoint normal, core::NavPoint point, double depth_m,
+                         double restitution);
 
   [[nodiscard]] const BoatState& state() const { return state_; }
   [[nodiscard]] TruthState truth() const;

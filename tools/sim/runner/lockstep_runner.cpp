@@ -59,6 +59,7 @@ LockstepRunner::LockstepRunner(const world::Course& course, const config::BoatCo
       model_(boat, dynamics::make_params(boat, course.dynamics), course.environment, options.seed,
              core::ns_to_sec(options.dynamics_step_ns)),
       scorer_(course.world, boat.hull),
+      collisions_(course.world, boat.hull),
       firmware_(logic_config(boat, options)),
       tick_period_ns_(core::sec_to_ns(1.0 / options.tick_rate_hz)),
       command_period_ns_(core::sec_to_ns(1.0 / boat.actuators.command_rate_hz)) {
@@ -108,6 +109,7 @@ bool LockstepRunner::step() {
   }
   // 4. Dynamics, then the clock.
   model_.step();
+  if (options_.collision_response) (void)collisions_.resolve(model_);
   ++steps_;
   const core::TimeNs t = model_.time_ns();
   clock_.set_ns(t);
@@ -127,6 +129,13 @@ bool LockstepRunner::step() {
   }
   if (step_observer_) step_observer_();
   return !over_;
+}
+
+void LockstepRunner::stop() {
+  if (over_) return;
+  scorer_.finish(core::ns_to_sec(clock_.now_ns()));
+  over_ = true;
+  path_.push_back(model_.truth().pose);
 }
 
 RunOutcome LockstepRunner::run() {

@@ -22,6 +22,7 @@
 #include "sim/runner/pilot.hpp"
 #include "sim/runner/sensor_suite.hpp"
 #include "sim/scoring/scorer.hpp"
+#include "sim/world/collision.hpp"
 #include "sim/world/course.hpp"
 
 namespace coxswain::sim::runner {
@@ -36,6 +37,9 @@ struct RunnerOptions {
   bool start_switch = true;         // state of the Arduino's start switch input
   core::TimeNs trace_period_ns = 100 * core::kNsPerMs;   // path decimation for pictures
   core::TimeNs status_period_ns = 100 * core::kNsPerMs;  // Arduino telemetry rate
+  /// The hull stops at walls, docks and buoys (world::CollisionResponse) instead of passing
+  /// through them; off only to reproduce runs of simulators before it.
+  bool collision_response = true;
 };
 
 struct RunOutcome {
@@ -59,6 +63,8 @@ class LockstepRunner {
   bool step();
   /// Steps until the run is over.
   RunOutcome run();
+  /// Ends the run now (the boat stopped sailing): the judge settles the score at this time.
+  void stop();
 
   /// Cuts (false) or restores (true) the serial link to the Arduino: while cut, commands do not
   /// reach the firmware, whose failsafe then neutralises the outputs after failsafe_ms.
@@ -90,6 +96,7 @@ class LockstepRunner {
   std::unique_ptr<core::Snapshot> snapshot_;
   dynamics::BoatModel model_;
   scoring::Scorer scorer_;
+  world::CollisionResponse collisions_;
   drivers::arduino::FirmwareLogic firmware_;
   drivers::arduino::LogicOutputs outputs_{};
   msg::ActuatorCommand command_;

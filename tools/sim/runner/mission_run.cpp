@@ -88,14 +88,20 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
                                                                     : course.world.target_colour;
   so.target_shape = options.target_shape != msg::Shape::kUnknown ? options.target_shape
                                                                  : course.world.target_shape;
-  RealisticSensorSuite suite(
-      course.world, config,
-      fitted_sensor_config(options.sensors, course.world, config, options.seed), so);
+  // The course's own sensor conditions win over the sensors file and the drawn disturbances.
+  sensors::SensorConfig sensor_config =
+      fitted_sensor_config(options.sensors, course.world, config, options.seed);
+  sensors::apply_conditions(course.world.conditions, sensor_config);
+  if (const std::string why = sensor_config.validate(); !why.empty()) {
+    throw std::invalid_argument("sensors: " + why);
+  }
+  RealisticSensorSuite suite(course.world, config, sensor_config, so);
   RunnerOptions ro;
   ro.seed = options.seed;
   ro.tick_rate_hz = config.mission.tick_rate_hz;
   ro.max_time_s = options.max_time_s;
   ro.failsafe_ms = static_cast<std::uint16_t>(config.devices.arduino.failsafe_ms);
+  ro.collision_response = options.collision_response;
   // The judge scores the target the run was given (--target), not the course file's default.
   world::Course judged = course;
   judged.world.target_colour = so.target_colour;
@@ -117,8 +123,16 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   MissionRunResult r;
   r.hold_delay_s.assign(options.outages.size(), -1.0);
   r.resumed.assign(options.outages.size(), false);
+  double finished_at_s = -1.0;
   while (runner.step()) {
     const double t = core::ns_to_sec(runner.now_ns());
+    if (pilot.status().finished) {
+      if (finished_at_s < 0.0) finished_at_s = t;
+      if (t - finished_at_s >= options.finished_grace_s) {
+        runner.stop();
+        break;
+      }
+    }
     bool gnss_off = false;
     bool lidar_off = false;
     for (std::size_t i = 0; i < options.outages.size(); ++i) {
@@ -143,6 +157,7 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   if (options.record_path) r.path = runner.path();
   r.camera_frames = suite.frames_processed();
   r.passed = mission_passed(r.outcome.score);
+  r.failure = r.passed ? "" : scoring::failure_reason(r.outcome.score, r.status.finished);
   return r;
 }
 
@@ -150,6 +165,7 @@ nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed) {
   nlohmann::json j = scoring::to_json(result.outcome.score);
   const auto& s = result.status;
   j["passed"] = result.passed;
+  j["failure"] = result.failure;
   j["seed"] = seed;
   std::ostringstream hash;
   hash << std::hex << result.outcome.trajectory_hash;

@@ -47,6 +47,11 @@ struct MissionRunOptions {
   bool record_path = true;
   /// Not empty: write the flight recording the daemon writes (RunRecorder) to this file.
   std::string recording_file;
+  /// The hull stops at what it touches (RunnerOptions::collision_response).
+  bool collision_response = true;
+  /// Once the mission declares itself finished the boat has stopped sailing: the run ends this
+  /// long after (what it coasts counts), and the judge settles the score there.
+  double finished_grace_s = 5.0;
 };
 
 struct MissionRunResult {
@@ -56,6 +61,8 @@ struct MissionRunResult {
   std::vector<core::NavPose> path;
   std::uint64_t camera_frames = 0;
   bool passed = false;
+  /// Why it failed ("" when passed): scoring::failure_reason.
+  std::string failure;
   /// With a recording: the recorder's own counters at the end (per channel written/dropped).
   std::optional<record::RecorderStats> recording;
   /// Per outage: seconds from its start to the mission holding (-1 never), and whether the
@@ -74,8 +81,8 @@ struct MissionRunResult {
                                            const config::Configuration& config,
                                            const MissionRunOptions& options);
 
-/// result.json: the scoring JSON plus "mission" (status), "transitions", "passed", "seed",
-/// "trajectory_hash", and with a recording "recording": {"written": {topic: n}, "dropped":
+/// result.json: the scoring JSON plus "mission" (status), "transitions", "passed", "failure",
+/// "seed", "trajectory_hash", and with a recording "recording": {"written": {topic: n}, "dropped":
 /// {topic: n}, "failed", "error"} (the recorder's counters, which the file must match).
 [[nodiscard]] nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed);
 

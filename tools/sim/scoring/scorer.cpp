@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/time.hpp"
+#include "sim/world/collision.hpp"
 #include "sim/world/geometry.hpp"
 
 namespace coxswain::sim::scoring {
@@ -100,11 +102,7 @@ std::string_view rules_name(Rules rules) {
 }
 
 std::array<core::BodyPoint, 5> hull_outline_body(const config::HullConfig& hull) {
-  const double bow = hull.bow_overhang_m;
-  const double stern = hull.bow_overhang_m - hull.length_m;
-  const double shoulder = bow - 0.25 * hull.length_m;
-  const double hb = 0.5 * hull.beam_m;
-  return {{{bow, 0.0}, {shoulder, hb}, {stern, hb}, {stern, -hb}, {shoulder, -hb}}};
+  return world::hull_outline_body(hull);
 }
 
 std::array<NavPoint, 5> hull_outline(const config::HullConfig& hull, const core::NavPose& pose) {
@@ -119,7 +117,7 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
   result_.course = world.name;
   result_.rules = rules_for(world.kind);
   for (std::size_t i = 0; i < world.walls.size(); ++i) {
-    Obstacle o{"wall " + std::to_string(i), ObstacleKind::kWall, {}, {}, 0.0, false};
+    Obstacle o{"wall " + std::to_string(i), ObstacleKind::kWall, {}, {}, 0.0, false, {}, 0.0};
     const auto& pts = world.walls[i].points;
     for (std::size_t k = 1; k < pts.size(); ++k) o.segments.emplace_back(pts[k - 1], pts[k]);
     obstacles_.push_back(std::move(o));
@@ -132,10 +130,12 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
          {},
          b.center,
          b.radius_m,
-         false});
+         false,
+         {},
+         0.0});
   }
   for (const auto& d : world.docks) {
-    Obstacle o{"dock " + d.name, ObstacleKind::kDock, {}, {}, 0.0, false};
+    Obstacle o{"dock " + d.name, ObstacleKind::kDock, {}, {}, 0.0, false, {}, 0.0};
     for (const auto& w : d.walls) {
       for (std::size_t k = 1; k < w.points.size(); ++k) {
         o.segments.emplace_back(w.points[k - 1], w.points[k]);
@@ -194,8 +194,28 @@ void Scorer::finish_course(std::size_t index, double t_s) {
   if (c.end_s < 0.0) c.end_s = t_s;
 }
 
+std::string Scorer::pending_goal() const {
+  const world::World& w = *world_;
+  switch (result_.rules) {
+    case Rules::k2022Hopping:
+      if (next_waypoint_ < w.waypoints.size())
+        return "waypoint " + w.waypoints[next_waypoint_].name;
+      return w.waypoints.empty() ? "a waypoint" : "";
+    case Rules::k2022Obstacle:
+      if (next_gate_ < w.gates.size()) return "gate " + w.gates[next_gate_].name;
+      return w.gates.empty() ? "a gate" : "";
+    case Rules::k2022Docking:
+      return result_.docked ? "" : "the target dock";
+    case Rules::k2026:
+      if (!result_.docked) return "the dock";
+      return result_.circled ? "" : "the circle round the purple buoy";
+  }
+  return "";
+}
+
 void Scorer::conclude(double t_s) {
   done_ = true;
+  result_.pending = pending_goal();
   result_.elapsed_s = t_s;
   for (std::size_t i = 0; i < result_.courses.size(); ++i) {
     if (result_.courses[i].start_s >= 0.0) finish_course(i, t_s);
@@ -236,8 +256,10 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
         d = std::min(d, outline_segment_distance(outline, s.first, s.second));
       }
     }
-    if (!o.in_contact && d <= 0.0) {
+    if (!o.in_contact && d <= options_.touch_m) {
       o.in_contact = true;
+      o.anchor = cg;
+      o.anchor_s = t;
       // Hitting the dock is not penalised (2022 docking rule, kept for 2026 course 3).
       const bool penalised = o.kind != ObstacleKind::kDock;
       result_.contacts.push_back({t, cg, o.name, o.kind, course_, penalised});
@@ -250,6 +272,9 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
       }
     } else if (o.in_contact && d > options_.release_m) {
       o.in_contact = false;
+    } else if (o.in_contact && core::distance_m(cg, o.anchor) > options_.pinned_radius_m) {
+      o.anchor = cg;  // sliding along it: still getting somewhere
+      o.anchor_s = t;
     }
   }
 
@@ -339,6 +364,17 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
     conclude(t);
     return;
   }
+  if (options_.pinned_s > 0.0) {
+    for (const Obstacle& o : obstacles_) {
+      if (o.in_contact && t - o.anchor_s >= options_.pinned_s) {
+        result_.pinned = true;
+        result_.pinned_to = o.name;
+        result_.pinned_since_s = o.anchor_s;
+        conclude(t);
+        return;
+      }
+    }
+  }
   // Time limit of the current course (or of the whole single course).
   CourseResult& c = result_.courses[course_];
   if (c.time_limit_s > 0.0 && c.start_s >= 0.0 && t - c.start_s >= c.time_limit_s) {
@@ -346,6 +382,36 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
     result_.timed_out = true;
     conclude(t);
   }
+}
+
+std::string failure_reason(const ScoreResult& r, bool mission_finished) {
+  const bool rules_met = r.completed && (r.rules != Rules::k2026 || r.circled);
+  if (rules_met && !r.timed_out) return "";
+  std::ostringstream o;
+  o.precision(1);
+  o << std::fixed;
+  if (r.pinned) {
+    o << "pinned against " << r.pinned_to << " from " << r.pinned_since_s << " s to " << r.elapsed_s
+      << " s";
+  } else if (r.timed_out) {
+    std::string course;
+    for (const auto& c : r.courses) {
+      if (c.timed_out) course = c.name;
+    }
+    o << "out of time in " << course;
+  } else if (r.rules == Rules::k2022Docking && !r.docked && !r.docks.empty() &&
+             !r.docks.back().ok) {
+    o << "entered dock " << r.docks.back().name << ", not the target";
+  } else if (mission_finished && !r.pending.empty()) {
+    o << "the mission finished but the judge, on the true track, never saw " << r.pending
+      << " passed";
+  } else if (!r.pending.empty()) {
+    o << "the run ended before " << r.pending;
+  } else {
+    o << "not completed";
+  }
+  if (!r.pending.empty() && (r.pinned || r.timed_out)) o << " (next: " << r.pending << ")";
+  return o.str();
 }
 
 nlohmann::json to_json(const ScoreResult& r) {
@@ -364,6 +430,12 @@ nlohmann::json to_json(const ScoreResult& r) {
   j["buoy_circled_deg"] = r.buoy_circled_deg;
   j["docked"] = r.docked;
   j["bonus_points"] = r.bonus_points;
+  j["pinned"] = r.pinned;
+  if (r.pinned) {
+    j["pinned_to"] = r.pinned_to;
+    j["pinned_since_s"] = r.pinned_since_s;
+  }
+  j["pending"] = r.pending;
   auto kind_name = [](ObstacleKind k) {
     return k == ObstacleKind::kWall ? "wall" : k == ObstacleKind::kBuoy ? "buoy" : "dock";
   };

@@ -2,9 +2,12 @@
 #pragma once
 // Judging a run against the contest rules. The boat is its hull outline (config hull length,
 // beam, bow overhang: a pentagon with a pointed bow), never a point:
-// - collisions: the outline touching a wall, buoy or dock; counted once per contact (a contact
-//   starts at touch and ends only after the hull is `release_m` clear again, so scraping along a
-//   wall is one collision);
+// - collisions: the outline touching a wall, buoy or dock (within `touch_m`: the simulator's
+//   collision response leaves a hull exactly touching what it hit); counted once per contact (a
+//   contact starts at touch and ends only after the hull is `release_m` clear again, so scraping
+//   along a wall is one collision);
+// - pinned: a hull that stays in one contact without getting `pinned_radius_m` away from where
+//   it was for `pinned_s` is stuck; the run ends there, not completed (a failure);
 // - waypoints: the 2022 rule, at least half the hull's area inside the waypoint's circle
 //   (area sampled on a fixed grid); hopping and 2026 waypoints count only in order;
 // - gates: the centre of gravity crossing the gate segment left -> right in the course direction;
@@ -82,13 +85,27 @@ struct ScoreResult {
   bool circled = false;           // 2026: a full turn around the purple buoy
   bool docked = false;            // entered the target dock (2022) / the dock (2026)
   double bonus_points = 0.0;
-  double score_s = 0.0;  // elapsed + penalties: lower is better
+  double score_s = 0.0;   // elapsed + penalties: lower is better
+  bool pinned = false;    // the run ended with the hull stuck against an obstacle
+  std::string pinned_to;  // that obstacle
+  double pinned_since_s = 0.0;
+  /// The first thing the rules still wanted when the run ended ("" when completed): "gate
+  /// finish", "waypoint wp2", "the target dock", "the circle round the purple buoy".
+  std::string pending;
 };
+
+/// Why a run failed, in words ("" when it passed: completed in time, and for 2026 circled).
+/// `mission_finished`: the mission declared itself done (then a goal still pending is one the
+/// judge, on the true track, saw missed).
+std::string failure_reason(const ScoreResult& result, bool mission_finished);
 
 nlohmann::json to_json(const ScoreResult& result);
 
 struct ScoringOptions {
-  double release_m = 0.05;  // a contact ends once the hull is this far clear again
+  double touch_m = 1e-3;         // a contact starts when the hull is this close (numerical touch)
+  double release_m = 0.05;       // a contact ends once the hull is this far clear again
+  double pinned_s = 30.0;        // pinned: this long in one contact... (0 = never ends a run)
+  double pinned_radius_m = 2.0;  // ...without moving this far from where the boat was
 };
 
 class Scorer {
@@ -119,10 +136,13 @@ class Scorer {
     core::NavPoint center;  // buoys
     double radius_m = 0.0;
     bool in_contact = false;
+    core::NavPoint anchor;  // where the CG was when the contact (or its last 2 m) began
+    double anchor_s = 0.0;
   };
   [[nodiscard]] double fraction_inside(const core::NavPose& pose, const auto& inside) const;
   void finish_course(std::size_t index, double t_s);
   void conclude(double t_s);
+  [[nodiscard]] std::string pending_goal() const;
 
   const world::World* world_;
   config::HullConfig hull_;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/sensors/sensor_config.hpp"
 
+#include <algorithm>
+
 namespace coxswain::sim::sensors {
 
 using config::Bounds;
@@ -159,6 +161,29 @@ CameraSimConfig read_camera(MapReader& r, std::uint64_t seed) {
 }
 
 }  // namespace
+
+void apply_conditions(const world::SensorConditions& c, SensorConfig& config) {
+  GnssSimConfig& g = config.gnss;
+  if (c.gnss_bias_mean_m) g.bias_mean_m = *c.gnss_bias_mean_m;
+  if (c.gnss_bias_direction_deg) g.bias_direction_deg = *c.gnss_bias_direction_deg;
+  if (c.gnss_bias_wander_sigma_m) g.bias_wander_sigma_m = *c.gnss_bias_wander_sigma_m;
+  if (c.gnss_bias_tau_s) g.bias_tau_s = *c.gnss_bias_tau_s;
+  if (c.gnss_noise_sigma_m) g.noise_sigma_m = *c.gnss_noise_sigma_m;
+  if (c.gnss_bias_max_m) {
+    g.bias_max_m = *c.gnss_bias_max_m;
+  } else if (c.gnss_bias_mean_m) {
+    g.bias_max_m = std::max(g.bias_max_m, g.bias_mean_m + 2.0 * g.bias_wander_sigma_m);
+  }
+  CameraSimConfig& k = config.camera;
+  if (c.camera_glare) k.glare = *c.camera_glare;
+  if (c.camera_glare_gain) k.glare_gain = *c.camera_glare_gain;
+  if (c.camera_glare_saturation_loss) k.glare_saturation_loss = *c.camera_glare_saturation_loss;
+  if (c.camera_sun_bearing_deg) k.sun_bearing_deg = *c.camera_sun_bearing_deg;
+  if (c.camera_sun_elevation_deg) k.sun_elevation_deg = *c.camera_sun_elevation_deg;
+  if (c.camera_sun_blob_radius_px) k.sun_blob_radius_px = *c.camera_sun_blob_radius_px;
+  if (c.camera_blur_kernel_px) k.blur_kernel_px = *c.camera_blur_kernel_px;
+  if (c.camera_noise_sigma) k.noise_sigma = *c.camera_noise_sigma;
+}
 
 SensorConfig load_sensor_config(MapReader& reader) {
   SensorConfig c;

@@ -10,6 +10,7 @@
 #include "sim/sensors/gnss_sim.hpp"
 #include "sim/sensors/imu_sim.hpp"
 #include "sim/sensors/lidar_sim.hpp"
+#include "sim/world/world.hpp"
 
 namespace coxswain::sim::sensors {
 
@@ -23,6 +24,11 @@ struct SensorConfig {
   /// Empty when valid, else the first problem found.
   [[nodiscard]] std::string validate() const;
 };
+
+/// Applies a course's sensor conditions over `config` (each value the course gives wins). A bias
+/// mean given without a cap raises the cap to the mean plus twice the wander when it was lower,
+/// so a course's bias is never silently clamped by another source's cap.
+void apply_conditions(const world::SensorConditions& conditions, SensorConfig& config);
 
 /// Reads the map of a `sensors:` block (its keys: seed, lidar, gnss, imu, camera; every key
 /// optional, defaults as in the structs). Problems are added to reader.errors(); unknown keys are

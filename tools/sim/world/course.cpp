@@ -93,6 +93,78 @@ void check_unique(MapReader& m, std::string_view key, std::set<std::string>& nam
   if (!names.insert(name).second) m.error(key, "name '" + name + "' is used twice");
 }
 
+// ---- The `conditions:` block (the venue's sensor conditions). Kept apart from the rest of the
+// format so other blocks can be added beside it without touching this one.
+void read_conditions(MapReader& m, SensorConditions& c) {
+  const auto opt = [](MapReader& r, std::string_view key, Bounds<double> b,
+                      std::optional<double>& out) {
+    if (r.has(key)) out = r.get<double>(key, 0.0, b);
+  };
+  if (auto g = m.map("gnss")) {
+    opt(*g, "bias_mean_m", {0.0, 50.0}, c.gnss_bias_mean_m);
+    opt(*g, "bias_direction_deg", {-360.0, 360.0}, c.gnss_bias_direction_deg);
+    opt(*g, "bias_wander_sigma_m", {0.0, 20.0}, c.gnss_bias_wander_sigma_m);
+    opt(*g, "bias_tau_s", {1.0, 1e5}, c.gnss_bias_tau_s);
+    opt(*g, "bias_max_m", {0.0, 50.0}, c.gnss_bias_max_m);
+    opt(*g, "noise_sigma_m", {0.0, 20.0}, c.gnss_noise_sigma_m);
+    if (c.gnss_bias_mean_m && c.gnss_bias_max_m && *c.gnss_bias_mean_m > *c.gnss_bias_max_m) {
+      g->error("bias_mean_m", "must not exceed bias_max_m");
+    }
+    g->finish();
+  }
+  if (auto k = m.map("camera")) {
+    if (k->has("glare")) c.camera_glare = k->get<bool>("glare", false);
+    opt(*k, "glare_gain", {0.1, 10.0}, c.camera_glare_gain);
+    opt(*k, "glare_saturation_loss", {0.0, 1.0}, c.camera_glare_saturation_loss);
+    opt(*k, "sun_bearing_deg", {-360.0, 360.0}, c.camera_sun_bearing_deg);
+    opt(*k, "sun_elevation_deg", {-10.0, 90.0}, c.camera_sun_elevation_deg);
+    opt(*k, "sun_blob_radius_px", {0.0, 2000.0}, c.camera_sun_blob_radius_px);
+    if (k->has("blur_kernel_px")) {
+      const int px = k->get<int>("blur_kernel_px", 0, {0, 31});
+      if (px != 0 && (px < 3 || px % 2 == 0)) {
+        k->error("blur_kernel_px", "must be 0 (off) or odd 3..31");
+      }
+      c.camera_blur_kernel_px = px;
+    }
+    opt(*k, "noise_sigma", {0.0, 100.0}, c.camera_noise_sigma);
+    k->finish();
+  }
+  m.finish();
+}
+
+void write_conditions(std::ostream& o, const SensorConditions& c) {
+  if (!c.any()) return;
+  o << "conditions:\n";
+  const auto item = [&o](bool& first, std::string_view key, const auto& v) {
+    if (!v) return;
+    o << (first ? "{" : ", ") << key << ": " << *v;
+    first = false;
+  };
+  bool first = true;
+  o << "  gnss: ";
+  item(first, "bias_mean_m", c.gnss_bias_mean_m);
+  item(first, "bias_direction_deg", c.gnss_bias_direction_deg);
+  item(first, "bias_wander_sigma_m", c.gnss_bias_wander_sigma_m);
+  item(first, "bias_tau_s", c.gnss_bias_tau_s);
+  item(first, "bias_max_m", c.gnss_bias_max_m);
+  item(first, "noise_sigma_m", c.gnss_noise_sigma_m);
+  o << (first ? "{}" : "}") << "\n";
+  first = true;
+  o << "  camera: ";
+  if (c.camera_glare) {
+    o << "{glare: " << (*c.camera_glare ? "true" : "false");
+    first = false;
+  }
+  item(first, "glare_gain", c.camera_glare_gain);
+  item(first, "glare_saturation_loss", c.camera_glare_saturation_loss);
+  item(first, "sun_bearing_deg", c.camera_sun_bearing_deg);
+  item(first, "sun_elevation_deg", c.camera_sun_elevation_deg);
+  item(first, "sun_blob_radius_px", c.camera_sun_blob_radius_px);
+  item(first, "blur_kernel_px", c.camera_blur_kernel_px);
+  item(first, "noise_sigma", c.camera_noise_sigma);
+  o << (first ? "{}" : "}") << "\n";
+}
+
 }  // namespace
 
 std::string_view course_kind_name(CourseKind kind) {
@@ -342,6 +414,7 @@ Course load_course_file(const std::string& path, ConfigErrors& errors) {
   }
   if (auto e = root.map("environment")) course.environment = dynamics::read_environment(*e);
   if (auto d = root.map("dynamics")) course.dynamics = dynamics::read_dynamics_overrides(*d);
+  if (auto c = root.map("conditions")) read_conditions(*c, w.conditions);
   root.finish();
   if (w.kind == CourseKind::kKaboat2026 && w.regions.size() != 3) {
     root.error("regions", "a kaboat2026 course needs exactly 3 regions (course 1, 2, 3)");
@@ -432,6 +505,7 @@ std::string to_course_yaml(const Course& course) {
     << "  wind: {speed_mps: " << e.wind_speed_mps << ", from_deg: " << e.wind_from_deg
     << ", gust_std_mps: " << e.gust_std_mps << ", gust_time_s: " << e.gust_time_s << "}\n"
     << "  waves: {force_n: " << e.wave_force_n << ", period_s: " << e.wave_period_s << "}\n";
+  write_conditions(o, w.conditions);
   bool any = course.dynamics.length_m > 0.0;
   for (bool g : course.dynamics.given) any = any || g;
   if (any) {

@@ -126,6 +126,99 @@ World draw_obstacle(Rng& rng, bool narrow) {
   return w;
 }
 
+// Buoys along a polyline, `spacing_m` apart centre to centre (from its first point, the last
+// point always included): a wall the lidar sees as separate returns.
+void buoy_line(World& w, const std::vector<NavPoint>& pts, double spacing_m, double radius_m,
+               msg::Colour colour) {
+  auto put = [&](NavPoint p) {
+    for (const Buoy& b : w.buoys) {
+      if (core::distance_m(b.center, p) < 0.5 * spacing_m) return;  // a shared corner
+    }
+    Buoy b;
+    b.center = mm(p);
+    b.radius_m = radius_m;
+    b.height_m = 0.6;
+    b.colour = colour;
+    w.buoys.push_back(b);
+  };
+  for (std::size_t k = 1; k < pts.size(); ++k) {
+    const double len = core::distance_m(pts[k - 1], pts[k]);
+    const int n = std::max(1, static_cast<int>(std::ceil(len / spacing_m)));
+    for (int i = 0; i <= n; ++i) {
+      put(add(pts[k - 1], scale(sub(pts[k], pts[k - 1]), static_cast<double>(i) / n)));
+    }
+  }
+}
+
+// The shared frame of the obstacle families: a 40 m x 20 m field, the start gate 3 m ahead of
+// the start, the finish gate at the far end, both on the straight line east = 0.
+World obstacle_family_field(double length, double hw) {
+  World w;
+  w.kind = CourseKind::kObstacle;
+  w.walls.push_back(rectangle_wall(-3.0, length + 3.0, -hw, hw));
+  w.start = {{0.0, 0.0}, 0.0};
+  w.gates.push_back({"start", {3.0, -1.5}, {3.0, 1.5}});
+  w.gates.push_back({"finish", {length, -1.5}, {length, 1.5}});
+  w.regions.push_back({"final", rectangle(-3.0, length + 3.0, -hw, hw), 300.0});
+  return w;
+}
+
+World draw_dead_end(Rng& rng) {
+  const double length = 40.0;
+  const double hw = 10.0;
+  World w = obstacle_family_field(length, hw);
+  const double c = mm(rng.uniform(-1.5, 1.5));       // the U's centre line (east)
+  const double a = mm(rng.uniform(2.5, 3.5));        // its inner half-width
+  const double mouth = mm(rng.uniform(11.0, 15.0));  // north of its open end
+  const double back = mm(mouth + rng.uniform(5.0, 8.0));
+  const double side = rng.below(2) == 0 ? -1.0 : 1.0;  // the wing closes this side
+  const bool buoys = rng.below(2) == 0;
+  const std::vector<NavPoint> u{{mouth, c - a}, {back, c - a}, {back, c + a}, {mouth, c + a}};
+  const std::vector<NavPoint> wing{{back, c + side * a}, {back, side * hw}};
+  if (buoys) {
+    const msg::Colour colour = rng.below(2) == 0 ? msg::Colour::kOrange : msg::Colour::kYellow;
+    buoy_line(w, u, 0.8, 0.25, colour);
+    buoy_line(w, wing, 0.8, 0.25, colour);
+  } else {
+    w.walls.push_back({u, 0.5});
+    w.walls.push_back({wing, 0.5});
+  }
+  // A few buoys in the open water past the enclosure.
+  scatter_buoys(w, rng, 2 + static_cast<int>(rng.below(4)), back + 2.5, length - 3.0, -hw + 1.0,
+                hw - 1.0, 1.5, {w.gates[1].left, w.gates[1].right}, 2.0);
+  return w;
+}
+
+World draw_gap_wall(Rng& rng) {
+  const double length = 40.0;
+  const double hw = 10.0;
+  World w = obstacle_family_field(length, hw);
+  const double line_n = mm(rng.uniform(14.0, 24.0));
+  const double gap = mm(rng.uniform(2.4, 3.2));
+  const double side = rng.below(2) == 0 ? -1.0 : 1.0;
+  const double gap_c = mm(side * rng.uniform(4.0, hw - 1.0 - 0.5 * gap));
+  const double g0 = gap_c - 0.5 * gap;
+  const double g1 = gap_c + 0.5 * gap;
+  const bool buoys = rng.below(2) == 0;
+  const std::vector<NavPoint> west{{line_n, -hw}, {line_n, g0}};
+  const std::vector<NavPoint> east{{line_n, g1}, {line_n, hw}};
+  if (buoys) {
+    const msg::Colour colour = rng.below(2) == 0 ? msg::Colour::kOrange : msg::Colour::kYellow;
+    // From the gap outward, so the gap keeps its drawn width.
+    buoy_line(w, {west[1], west[0]}, 0.8, 0.25, colour);
+    buoy_line(w, east, 0.8, 0.25, colour);
+  } else {
+    w.walls.push_back({west, 0.5});
+    w.walls.push_back({east, 0.5});
+  }
+  const NavPoint gap_mid{line_n, gap_c};
+  scatter_buoys(w, rng, 2 + static_cast<int>(rng.below(3)), 6.0, line_n - 3.0, -hw + 1.0, hw - 1.0,
+                1.5, {w.gates[0].left, w.gates[0].right, gap_mid}, 3.0);
+  scatter_buoys(w, rng, 2 + static_cast<int>(rng.below(3)), line_n + 3.0, length - 3.0, -hw + 1.0,
+                hw - 1.0, 1.5, {w.gates[1].left, w.gates[1].right, gap_mid}, 3.0);
+  return w;
+}
+
 World draw_docking(Rng& rng) {
   World w;
   w.kind = CourseKind::kDocking;
@@ -205,6 +298,46 @@ struct Grid {
 };
 
 }  // namespace
+
+std::optional<GeneratorKind> find_generator_kind(std::string_view name) {
+  for (const GeneratorKind& k : kGeneratorKinds) {
+    if (k.name == name) return k;
+  }
+  return std::nullopt;
+}
+
+bool straight_line_blocked(const World& world, double clearance_m) {
+  std::vector<NavPoint> route{world.start.position};
+  if (!world.gates.empty()) {
+    for (const Gate& g : world.gates) route.push_back(scale(add(g.left, g.right), 0.5));
+  } else {
+    for (const Waypoint& wp : world.waypoints) route.push_back(wp.position);
+  }
+  auto near_polyline = [&](NavPoint a, NavPoint b, const Wall& wall) {
+    for (std::size_t k = 1; k < wall.points.size(); ++k) {
+      if (segment_segment_distance(a, b, wall.points[k - 1], wall.points[k]) < clearance_m) {
+        return true;
+      }
+    }
+    return false;
+  };
+  for (std::size_t i = 1; i < route.size(); ++i) {
+    const NavPoint a = route[i - 1];
+    const NavPoint b = route[i];
+    for (const Buoy& buoy : world.buoys) {
+      if (point_segment_distance(buoy.center, a, b) < buoy.radius_m + clearance_m) return true;
+    }
+    for (const Wall& wall : world.walls) {
+      if (near_polyline(a, b, wall)) return true;
+    }
+    for (const Dock& d : world.docks) {
+      for (const Wall& wall : d.walls) {
+        if (near_polyline(a, b, wall)) return true;
+      }
+    }
+  }
+  return false;
+}
 
 bool course_is_solvable(const World& world, double beam_m, double margin_m, std::string* why) {
   const double inflate = 0.5 * beam_m + margin_m;
@@ -342,7 +475,13 @@ Course generate_course(CourseKind kind, std::uint64_t seed, const GeneratorParam
         w = draw_hopping(draw);
         break;
       case CourseKind::kObstacle:
-        w = draw_obstacle(draw, params.narrow);
+        if (params.family == Family::kDeadEnd) {
+          w = draw_dead_end(draw);
+        } else if (params.family == Family::kGapWall) {
+          w = draw_gap_wall(draw);
+        } else {
+          w = draw_obstacle(draw, params.narrow);
+        }
         break;
       case CourseKind::kDocking:
         w = draw_docking(draw);
@@ -352,7 +491,11 @@ Course generate_course(CourseKind kind, std::uint64_t seed, const GeneratorParam
         break;
     }
     w.origin = params.origin;
-    w.name = std::string(course_kind_name(kind)) + "-seed-" + std::to_string(seed);
+    std::string family_name(course_kind_name(kind));
+    for (const GeneratorKind& k : kGeneratorKinds) {
+      if (k.kind == kind && k.family == params.family) family_name = k.name;
+    }
+    w.name = family_name + "-seed-" + std::to_string(seed);
     config::ConfigErrors errors;
     validate_world(w, errors);
     if (!errors.empty()) continue;

@@ -6,6 +6,7 @@
 // render against this; scoring judges the boat against it. Immutable once built, so it may be
 // shared read-only between threads (batch runs).
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,37 @@ struct Region {
   double time_limit_s = 0.0;            // 0 = none
 };
 
+/// The venue's sensor conditions (a course file's `conditions:` block). Every value given
+/// overrides the simulated sensors' configuration for runs on this course, whatever the sensors
+/// file or the batch's drawn disturbances say; a value not given leaves theirs.
+struct SensorConditions {
+  // GNSS: the bias's constant part (magnitude, bearing it points to), its wander (drift:
+  // stationary sigma per axis and correlation time), the cap on its magnitude, the white noise.
+  std::optional<double> gnss_bias_mean_m;
+  std::optional<double> gnss_bias_direction_deg;
+  std::optional<double> gnss_bias_wander_sigma_m;
+  std::optional<double> gnss_bias_tau_s;
+  std::optional<double> gnss_bias_max_m;
+  std::optional<double> gnss_noise_sigma_m;
+  // Camera: sun glare / over-exposure, blur and pixel noise.
+  std::optional<bool> camera_glare;
+  std::optional<double> camera_glare_gain;
+  std::optional<double> camera_glare_saturation_loss;
+  std::optional<double> camera_sun_bearing_deg;
+  std::optional<double> camera_sun_elevation_deg;
+  std::optional<double> camera_sun_blob_radius_px;
+  std::optional<int> camera_blur_kernel_px;
+  std::optional<double> camera_noise_sigma;
+
+  [[nodiscard]] bool any() const {
+    return gnss_bias_mean_m || gnss_bias_direction_deg || gnss_bias_wander_sigma_m ||
+           gnss_bias_tau_s || gnss_bias_max_m || gnss_noise_sigma_m || camera_glare ||
+           camera_glare_gain || camera_glare_saturation_loss || camera_sun_bearing_deg ||
+           camera_sun_elevation_deg || camera_sun_blob_radius_px || camera_blur_kernel_px ||
+           camera_noise_sigma;
+  }
+};
+
 enum class CourseKind : std::uint8_t { kHopping = 0, kObstacle, kDocking, kKaboat2026 };
 
 /// Everything in one course file, loaded and validated.
@@ -95,6 +127,7 @@ struct World {
   msg::Colour target_colour = msg::Colour::kUnknown;
   msg::Shape target_shape = msg::Shape::kUnknown;
   double declination_deg = 0.0;  // magnetic declination at the site, east positive
+  SensorConditions conditions;   // the venue's GNSS and camera conditions
 };
 
 }  // namespace coxswain::sim::world

@@ -90,6 +90,42 @@ TEST(LockstepRunner, ScriptedCommandsMoveTheBoatExactlyAsTheDynamicsPredict) {
   EXPECT_GT(runner.truth().yaw_rate_dps, 5.0);  // and it is turning to starboard
 }
 
+TEST(LockstepRunner, AHullDrivenAtAWallStopsThereCountsOneContactAndEndsPinned) {
+  world::Course course = open_water();
+  course.world.walls.push_back({{{8.0, -10.0}, {8.0, 10.0}}, 0.5});
+  course.world.gates.push_back({"finish", {20.0, -1.5}, {20.0, 1.5}});
+  const config::BoatConfig boat;
+  RunnerOptions options;
+  options.max_time_s = 120.0;
+  ScriptedPilot pilot({1500, 1900}, {1500, 1900}, 0.0);  // full ahead throughout
+  LockstepRunner runner(course, boat, options, nullptr, &pilot);
+  double furthest_bow_n = -1e9;
+  while (runner.step()) {
+    furthest_bow_n =
+        std::max(furthest_bow_n, runner.truth().pose.position.north_m + boat.hull.bow_overhang_m);
+  }
+  const RunOutcome out = runner.run();
+  EXPECT_LE(furthest_bow_n, 8.0 + 1e-9);  // never through the wall
+  EXPECT_NEAR(runner.truth().pose.position.north_m + boat.hull.bow_overhang_m, 8.0, 1e-3);
+  EXPECT_EQ(out.score.collisions, 1);  // one touch, held: one contact
+  EXPECT_TRUE(out.score.pinned);
+  EXPECT_FALSE(out.score.completed);
+  EXPECT_LT(core::ns_to_sec(out.end_ns), 60.0);  // ended by the pinned rule, not max_time_s
+}
+
+TEST(LockstepRunner, WithoutCollisionResponseTheHullPassesThroughAsBefore) {
+  world::Course course = open_water();
+  course.world.walls.push_back({{{8.0, -10.0}, {8.0, 10.0}}, 0.5});
+  const config::BoatConfig boat;
+  RunnerOptions options;
+  options.max_time_s = 30.0;
+  options.collision_response = false;
+  ScriptedPilot pilot({1500, 1900}, {1500, 1900}, 0.0);
+  LockstepRunner runner(course, boat, options, nullptr, &pilot);
+  (void)runner.run();
+  EXPECT_GT(runner.truth().cg.north_m, 12.0);
+}
+
 TEST(LockstepRunner, SameSeedGivesTheSameTrajectoryBitForBit) {
   const world::Course course = shipped("kaboat2022_obstacle_final.yaml");  // waves and current
   world::Course windy = course;

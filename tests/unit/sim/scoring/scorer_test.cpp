@@ -313,6 +313,90 @@ TEST(Scorer, Kaboat2026CountsAFullTurnAroundThePurpleBuoy) {
   EXPECT_LT(s.result().buoy_circled_deg, -360.0);
 }
 
+TEST(Scorer, AHullExactlyTouchingAWallAfterTheCollisionResponseIsOneContact) {
+  world::World w;
+  w.kind = world::CourseKind::kHopping;
+  w.walls.push_back({{{0.0, 2.0}, {30.0, 2.0}}, 0.5});
+  w.waypoints.push_back({"wp", {50.0, 0.0}, 2.0});
+  Scorer s(w, hull());
+  // The starboard side at east 1.6 + 0.4 = 2.0: touching to the last bit, as the collision
+  // response leaves a hull it pushed out; then clear, then touching again: two contacts.
+  for (int i = 0; i <= 50; ++i) s.update(at(0.1 * i, {{5.0, 1.6}, 0.0}), {});
+  EXPECT_EQ(s.result().collisions, 1);
+  for (int i = 51; i <= 60; ++i) s.update(at(0.1 * i, {{5.0, 1.0}, 0.0}), {});
+  for (int i = 61; i <= 70; ++i) s.update(at(0.1 * i, {{5.0, 1.6}, 0.0}), {});
+  EXPECT_EQ(s.result().collisions, 2);
+}
+
+TEST(Scorer, AHullPinnedAgainstAWallEndsTheRunAsAFailure) {
+  world::World w = obstacle_world();
+  w.walls.push_back({{{12.0, -5.0}, {12.0, 5.0}}, 0.5});
+  Scorer s(w, hull());
+  // The bow against the wall (bow tip at 12.0), nudging a few centimetres for 40 s.
+  double t = 0.0;
+  for (; t < 40.0 && !s.done(); t += 0.01) {
+    s.update(at(t, {{11.9 - 0.02 * std::sin(t), -0.5}, 0.0}), {});
+  }
+  ASSERT_TRUE(s.done());
+  const ScoreResult& r = s.result();
+  EXPECT_TRUE(r.pinned);
+  EXPECT_FALSE(r.completed);
+  EXPECT_EQ(r.pinned_to, "wall 0");
+  EXPECT_NEAR(r.elapsed_s, 30.0, 0.02);  // ScoringOptions::pinned_s after the touch
+  EXPECT_EQ(r.collisions, 1);
+  EXPECT_EQ(r.pending, "gate start");
+  EXPECT_NE(failure_reason(r, false).find("pinned against wall 0"), std::string::npos);
+}
+
+TEST(Scorer, SlidingAlongAWallIsNotPinned) {
+  world::World w;
+  w.kind = world::CourseKind::kHopping;
+  w.walls.push_back({{{0.0, 2.0}, {100.0, 2.0}}, 0.5});
+  w.waypoints.push_back({"wp", {150.0, 0.0}, 2.0});
+  Scorer s(w, hull());
+  // 60 s in contact, moving along at 0.5 m/s: one long scrape, never stuck.
+  for (double t = 0.0; t < 60.0; t += 0.01) s.update(at(t, {{5.0 + 0.5 * t, 1.6}, 0.0}), {});
+  EXPECT_FALSE(s.done());
+  EXPECT_FALSE(s.result().pinned);
+  EXPECT_EQ(s.result().collisions, 1);
+}
+
+TEST(FailureReason, AMissionThatFinishedWithTheFinishGateUncrossedFails) {
+  const world::World w = obstacle_world();
+  Scorer s(w, hull());
+  // Through the start gate, then past the finish gate outside its buoys (east 3).
+  s.update(at(0.0, {{1.0, 0.0}, 0.0}), {});
+  s.update(at(1.0, {{5.0, 0.0}, 0.0}), {});
+  s.update(at(2.0, {{18.0, 3.0}, 0.0}), {});
+  s.update(at(3.0, {{23.0, 3.0}, 0.0}), {});
+  s.finish(3.0);
+  const ScoreResult& r = s.result();
+  EXPECT_FALSE(r.completed);
+  EXPECT_EQ(r.pending, "gate finish");
+  const std::string why = failure_reason(r, true);
+  EXPECT_NE(why.find("mission finished"), std::string::npos) << why;
+  EXPECT_NE(why.find("gate finish"), std::string::npos) << why;
+}
+
+TEST(FailureReason, NamesTheWrongDockTheBoatEntered) {
+  ScoreResult r;
+  r.rules = Rules::k2022Docking;
+  r.docks.push_back({"C", 50.0, false});
+  r.pending = "the target dock";
+  EXPECT_EQ(failure_reason(r, true), "entered dock C, not the target");
+}
+
+TEST(FailureReason, IsEmptyForACompletedRun) {
+  const world::World w = obstacle_world();
+  Scorer s(w, hull());
+  s.update(at(0.0, {{1.0, 0.0}, 0.0}), {});
+  s.update(at(1.0, {{5.0, 0.0}, 0.0}), {});
+  s.update(at(2.0, {{18.0, 0.0}, 0.0}), {});
+  s.update(at(3.0, {{23.0, 0.0}, 0.0}), {});
+  ASSERT_TRUE(s.result().completed);
+  EXPECT_EQ(failure_reason(s.result(), true), "");
+}
+
 TEST(Svg, DrawsCoursePathCollisionsAndWaypoints) {
   world::World w = obstacle_world();
   w.waypoints.push_back({"wp", {15.0, 0.0}, 2.0});

@@ -78,5 +78,28 @@ TEST(SensorConfig, ValidateRejectsBadValues) {
   EXPECT_NE(c.validate(), "");
 }
 
+TEST(SensorConditions, ACourseFilesValuesWinAndTheOthersAreLeftAlone) {
+  SensorConfig c;
+  // What the batch's drawn disturbances set for a seed.
+  c.gnss.bias_mean_m = 3.0;
+  c.gnss.bias_direction_deg = 40.0;
+  c.gnss.bias_max_m = 5.0;
+  world::SensorConditions k;
+  k.gnss_bias_mean_m = 8.0;
+  k.camera_glare = true;
+  k.camera_sun_bearing_deg = 270.0;
+  apply_conditions(k, c);
+  EXPECT_DOUBLE_EQ(c.gnss.bias_mean_m, 8.0);
+  EXPECT_DOUBLE_EQ(c.gnss.bias_direction_deg, 40.0);  // not given by the course: kept
+  // A course bias is not clamped by another source's cap.
+  EXPECT_DOUBLE_EQ(c.gnss.bias_max_m, 8.0 + 2.0 * c.gnss.bias_wander_sigma_m);
+  EXPECT_TRUE(c.camera.glare);
+  EXPECT_DOUBLE_EQ(c.camera.sun_bearing_deg, 270.0);
+  EXPECT_EQ(c.validate(), "");
+  k.gnss_bias_max_m = 9.0;
+  apply_conditions(k, c);
+  EXPECT_DOUBLE_EQ(c.gnss.bias_max_m, 9.0);
+}
+
 }  // namespace
 }  // namespace coxswain::sim::sensors

@@ -54,6 +54,66 @@ TEST(Generator, KindsHaveTheirParts) {
   EXPECT_EQ(k2026.regions.size(), 3U);
 }
 
+// The obstacle families: the same course for a seed, valid, solvable with the hull's
+// clearance, and the straight line from the start through the gates blocked.
+constexpr Family kFamilies[] = {Family::kDeadEnd, Family::kGapWall};
+
+TEST(GeneratorFamilies, AreDeterministicPerSeedValidSolvableAndBlockTheStraightLine) {
+  for (Family family : kFamilies) {
+    GeneratorParams params;
+    params.family = family;
+    for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+      const Course c = generate_course(CourseKind::kObstacle, seed, params);
+      EXPECT_EQ(to_course_yaml(c),
+                to_course_yaml(generate_course(CourseKind::kObstacle, seed, params)));
+      config::ConfigErrors errors;
+      validate_world(c.world, errors);
+      EXPECT_TRUE(errors.empty()) << errors.format();
+      std::string why;
+      EXPECT_TRUE(course_is_solvable(c.world, 0.8, 0.3, &why)) << "seed " << seed << ": " << why;
+      EXPECT_TRUE(straight_line_blocked(c.world, 0.7)) << c.world.name;
+      EXPECT_EQ(c.world.gates.size(), 2U);
+      EXPECT_EQ(c.world.kind, CourseKind::kObstacle);
+    }
+    EXPECT_NE(to_course_yaml(generate_course(CourseKind::kObstacle, 1, params)),
+              to_course_yaml(generate_course(CourseKind::kObstacle, 2, params)));
+  }
+}
+
+TEST(GeneratorFamilies, TheDeadEndLetsTheBoatSailStraightIntoIt) {
+  GeneratorParams params;
+  params.family = Family::kDeadEnd;
+  for (std::uint64_t seed = 1; seed <= 8; ++seed) {
+    const World w = generate_course(CourseKind::kObstacle, seed, params).world;
+    // Up the straight line from the start gate to the first thing in the way (the back of the
+    // enclosure): the water just short of it is reachable from the start, so the enclosure is
+    // open toward the boat and a boat steering straight at the finish ends up inside it.
+    World probe = w;
+    probe.gates.clear();
+    double n = 4.0;
+    for (; n < 40.0; n += 0.1) {
+      World line = probe;
+      line.waypoints = {{"probe", {n, 0.0}, 0.5}};
+      if (straight_line_blocked(line, 0.7)) break;
+    }
+    ASSERT_LT(n, 30.0) << w.name;
+    probe.waypoints.push_back({"inside", {n - 0.8, 0.0}, 0.5});
+    std::string why;
+    EXPECT_TRUE(course_is_solvable(probe, 0.8, 0.3, &why)) << w.name << ": " << why;
+  }
+}
+
+TEST(GeneratorFamilies, NamesAreFoundAndTheStandardKindsKeepTheirNames) {
+  ASSERT_TRUE(find_generator_kind("deadend"));
+  EXPECT_EQ(find_generator_kind("deadend")->family, Family::kDeadEnd);
+  EXPECT_EQ(find_generator_kind("gapwall")->kind, CourseKind::kObstacle);
+  EXPECT_FALSE(find_generator_kind("maze"));
+  EXPECT_EQ(generate_course(CourseKind::kObstacle, 5).world.name, "obstacle-seed-5");
+  GeneratorParams params;
+  params.family = Family::kGapWall;
+  EXPECT_EQ(generate_course(CourseKind::kObstacle, 5, params).world.name, "gapwall-seed-5");
+}
+
 TEST(Generator, RoundTripThroughTheYamlFile) {
   for (CourseKind kind : kKinds) {
     const Course original = generate_course(kind, 11);
