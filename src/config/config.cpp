@@ -490,6 +490,80 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
   return d;
 }
 
+// ---- planning (map, global planner, lidar-judged gates): one block --------------------------
+void read_planning(MapReader& root, MissionConfig& mission) {
+  auto m = root.map("planning");
+  if (!m) return;
+  auto& pc = mission.planning;
+  const auto f = [](double v) { return static_cast<float>(v); };
+  const auto read_corners = [](MapReader& parent, std::string_view key) {
+    std::vector<core::GeoPoint> out;
+    const auto seq = parent.sequence(key);
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      auto e = parent.element(seq[i], i, key);
+      if (!e) continue;
+      out.push_back(read_geo(*e));
+      e->finish();
+    }
+    return out;
+  };
+  pc.boundary = read_corners(*m, "boundary");
+  const auto no_go = m->sequence("no_go");
+  for (std::size_t i = 0; i < no_go.size(); ++i) {
+    auto e = m->element(no_go[i], i, "no_go");
+    if (!e) continue;
+    pc.no_go.push_back(read_corners(*e, "corners"));
+    e->finish();
+  }
+  if (auto s = m->map("map")) {
+    auto& p = pc.map;
+    p.resolution_m = s->get("resolution_m", p.resolution_m, {0.05, 5.0});
+    p.margin_m = s->get("margin_m", p.margin_m, {0.0, 100.0});
+    p.size_north_m = s->get("size_north_m", p.size_north_m, {1.0, 1000.0});
+    p.size_east_m = s->get("size_east_m", p.size_east_m, {1.0, 1000.0});
+    p.hit_log_odds = f(s->get("hit_log_odds", double{p.hit_log_odds}, {0.01, 10.0}));
+    p.miss_log_odds = f(s->get("miss_log_odds", double{p.miss_log_odds}, {-10.0, -0.01}));
+    p.min_log_odds = f(s->get("min_log_odds", double{p.min_log_odds}, {-50.0, -0.01}));
+    p.max_log_odds = f(s->get("max_log_odds", double{p.max_log_odds}, {0.01, 50.0}));
+    p.occupied_log_odds =
+        f(s->get("occupied_log_odds", double{p.occupied_log_odds}, {-50.0, 50.0}));
+    p.max_range_m = s->get("max_range_m", p.max_range_m, {0.5, 100.0});
+    p.min_range_m = s->get("min_range_m", p.min_range_m, {0.0, 10.0});
+    s->finish();
+  }
+  if (auto s = m->map("planner")) {
+    auto& p = pc.planner;
+    p.enabled = s->get("enabled", p.enabled);
+    p.replan_period_s = s->get("replan_period_s", p.replan_period_s, {0.02, 10.0});
+    p.clearance_m = s->get("clearance_m", p.clearance_m, {0.0, 3.0});
+    p.lookahead_m = s->get("lookahead_m", p.lookahead_m, {0.1, 50.0});
+    p.max_expansions = s->get<std::uint32_t>("max_expansions", p.max_expansions, {1, 1U << 20});
+    p.goal_search_m = s->get("goal_search_m", p.goal_search_m, {0.0, 5.0});
+    p.stop_s = s->get("stop_s", p.stop_s, {0.0, 60.0});
+    p.back_off_s = s->get("back_off_s", p.back_off_s, {0.0, 60.0});
+    p.back_off_thrust_frac = s->get("back_off_thrust_frac", p.back_off_thrust_frac, kFrac);
+    p.look_s = s->get("look_s", p.look_s, {0.0, 60.0});
+    p.look_turn_deg = s->get("look_turn_deg", p.look_turn_deg, {-180.0, 180.0});
+    p.look_thrust_frac = s->get("look_thrust_frac", p.look_thrust_frac, kFrac);
+    s->finish();
+  }
+  if (auto s = m->map("gates")) {
+    auto& p = pc.gates;
+    p.judge_by_lidar = s->get("judge_by_lidar", p.judge_by_lidar);
+    p.width_m = s->get("width_m", p.width_m, {0.1, 50.0});
+    p.width_tolerance_m = s->get("width_tolerance_m", p.width_tolerance_m, {0.0, 10.0});
+    p.search_radius_m = s->get("search_radius_m", p.search_radius_m, {0.1, 50.0});
+    p.max_angle_deg = s->get("max_angle_deg", p.max_angle_deg, {0.0, 90.0});
+    p.max_buoy_length_m = s->get("max_buoy_length_m", p.max_buoy_length_m, {0.01, 10.0});
+    p.track_gate_m = s->get("track_gate_m", p.track_gate_m, {0.01, 10.0});
+    p.approach_m = s->get("approach_m", p.approach_m, {0.1, 50.0});
+    s->finish();
+  }
+  check(*m, pc.validate());
+  m->finish();
+}
+// ---- end planning ----
+
 MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors) {
   MissionConfig mission;
   mission.file = path;
@@ -528,6 +602,7 @@ MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors)
     stale->finish();
   }
   read_engines(root, mission);
+  read_planning(root, mission);  // planning block
   const auto tasks = root.sequence("tasks", true);
   if (tasks.empty() && root.has("tasks")) root.error("tasks", "must list at least one task");
   for (std::size_t i = 0; i < tasks.size(); ++i) {
@@ -849,6 +924,79 @@ void emit_engines(YAML::Emitter& out, const MissionConfig& m) {
   out << YAML::EndMap;
 }
 
+// ---- planning (map, global planner, lidar-judged gates): one block --------------------------
+void emit_planning(YAML::Emitter& out, const MissionConfig& m) {
+  const auto& pc = m.planning;
+  const auto d = [](float v) { return static_cast<double>(v); };
+  const auto corners = [&out](const std::vector<core::GeoPoint>& pts) {
+    out << YAML::BeginSeq;
+    for (const auto& g : pts) {
+      out << YAML::Flow << YAML::BeginMap;
+      kv(out, "lat_deg", g.lat_deg);
+      kv(out, "lon_deg", g.lon_deg);
+      kv(out, "height_m", g.height_m);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  };
+  begin(out, "planning");
+  if (!pc.boundary.empty()) {
+    out << YAML::Key << "boundary" << YAML::Value;
+    corners(pc.boundary);
+  }
+  if (!pc.no_go.empty()) {
+    out << YAML::Key << "no_go" << YAML::Value << YAML::BeginSeq;
+    for (const auto& poly : pc.no_go) {
+      out << YAML::BeginMap << YAML::Key << "corners" << YAML::Value;
+      corners(poly);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  const auto& mp = pc.map;
+  begin(out, "map", true);
+  kv(out, "resolution_m", mp.resolution_m);
+  kv(out, "margin_m", mp.margin_m);
+  kv(out, "size_north_m", mp.size_north_m);
+  kv(out, "size_east_m", mp.size_east_m);
+  kv(out, "hit_log_odds", d(mp.hit_log_odds));
+  kv(out, "miss_log_odds", d(mp.miss_log_odds));
+  kv(out, "min_log_odds", d(mp.min_log_odds));
+  kv(out, "max_log_odds", d(mp.max_log_odds));
+  kv(out, "occupied_log_odds", d(mp.occupied_log_odds));
+  kv(out, "max_range_m", mp.max_range_m);
+  kv(out, "min_range_m", mp.min_range_m);
+  out << YAML::EndMap;
+  const auto& p = pc.planner;
+  begin(out, "planner", true);
+  kv(out, "enabled", p.enabled);
+  kv(out, "replan_period_s", p.replan_period_s);
+  kv(out, "clearance_m", p.clearance_m);
+  kv(out, "lookahead_m", p.lookahead_m);
+  kv(out, "max_expansions", p.max_expansions);
+  kv(out, "goal_search_m", p.goal_search_m);
+  kv(out, "stop_s", p.stop_s);
+  kv(out, "back_off_s", p.back_off_s);
+  kv(out, "back_off_thrust_frac", p.back_off_thrust_frac);
+  kv(out, "look_s", p.look_s);
+  kv(out, "look_turn_deg", p.look_turn_deg);
+  kv(out, "look_thrust_frac", p.look_thrust_frac);
+  out << YAML::EndMap;
+  const auto& g = pc.gates;
+  begin(out, "gates", true);
+  kv(out, "judge_by_lidar", g.judge_by_lidar);
+  kv(out, "width_m", g.width_m);
+  kv(out, "width_tolerance_m", g.width_tolerance_m);
+  kv(out, "search_radius_m", g.search_radius_m);
+  kv(out, "max_angle_deg", g.max_angle_deg);
+  kv(out, "max_buoy_length_m", g.max_buoy_length_m);
+  kv(out, "track_gate_m", g.track_gate_m);
+  kv(out, "approach_m", g.approach_m);
+  out << YAML::EndMap;
+  out << YAML::EndMap;
+}
+// ---- end planning ----
+
 }  // namespace
 
 std::string to_yaml(const Configuration& c) {
@@ -975,6 +1123,7 @@ std::string to_yaml(const Configuration& c) {
   kv(out, "arduino", m.arduino_stale_ms);
   out << YAML::EndMap;
   emit_engines(out, m);
+  emit_planning(out, m);  // planning block
   out << YAML::Key << "tasks" << YAML::Value << YAML::BeginSeq;
   for (const TaskConfig& t : m.tasks) {
     out << YAML::BeginMap;

@@ -18,6 +18,7 @@
 #include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/nav_map.hpp"  // planning: map, planner, gates
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/camera_detections.hpp"
@@ -275,6 +276,9 @@ struct MissionConfig {
   Course1Config course1;
   Course2Config course2;
   DockingConfig docking;
+  // ---- planning (map, global planner, lidar-judged gates): one block, read by read_planning --
+  guidance::PlanningConfig planning;
+  // ---- end planning ----
 };
 
 /// Everything a run is configured with.
