@@ -137,6 +137,11 @@ class NavMap {
   std::vector<std::uint8_t> known_;
   std::vector<std::uint32_t> hit_stamp_;  // scan number of the last hit in each cell
   std::uint32_t scan_number_ = 0;
+  struct CellIndex {
+    int r;
+    int c;
+  };
+  std::vector<CellIndex> beam_ends_;  // this scan's beam ends (scratch, one per return)
   // Occupied lidar cells as an unordered set (list + position), so inflation visits only them.
   std::vector<std::uint32_t> occupied_list_;
   std::vector<std::int32_t> occupied_pos_;

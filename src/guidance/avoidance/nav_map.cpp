@@ -147,6 +147,7 @@ NavMap::NavMap(const NavMapParams& params, std::span<const core::NavPoint> bound
   log_odds_.assign(n, 0.0F);
   known_.assign(n, 0);
   hit_stamp_.assign(n, 0);
+  beam_ends_.assign(msg::LidarScan::kMaxPoints, {0, 0});
   occupied_list_.assign(n, 0);
   occupied_pos_.assign(n, -1);
   for (std::uint32_t r = 0; r < rows_; ++r) {
@@ -216,7 +217,8 @@ void NavMap::trace(int r0, int c0, int r1, int c1, bool hit) {
       const auto k = static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c);
       if (last && hit) {
         set_log_odds(k, log_odds_[k] + params_.hit_log_odds);
-      } else if (hit_stamp_[k] != scan_number_) {
+      } else if (log_odds_[k] > params_.min_log_odds && hit_stamp_[k] != scan_number_) {
+        // Cells near the boat are passed by most beams: those already clamped free cost nothing.
         set_log_odds(k, log_odds_[k] + params_.miss_log_odds);
       }
     }
@@ -268,12 +270,16 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     c1 = static_cast<int>(std::floor(fc0 + reach * std::sin(a) / res));
     return true;
   };
-  // Hits first, so a beam grazing a buoy does not clear the cell another beam ended in.
+  // Hits first, so a beam grazing a buoy does not clear the cell another beam ended in. The ends
+  // are worked out once (trigonometry is most of the cost) and kept for the second pass.
+  std::size_t beams = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     bool hit = false;
     int r1 = 0;
     int c1 = 0;
-    if (!end_of(scan.points[i], hit, r1, c1) || !hit) continue;
+    if (!end_of(scan.points[i], hit, r1, c1)) continue;
+    if (r1 != r0 || c1 != c0) beam_ends_[beams++] = {r1, c1};
+    if (!hit) continue;
     if (r1 < 0 || c1 < 0 || r1 >= static_cast<int>(rows_) || c1 >= static_cast<int>(cols_)) {
       continue;
     }
@@ -282,15 +288,8 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     hit_stamp_[k] = scan_number_;
     set_log_odds(k, log_odds_[k] + params_.hit_log_odds);
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    bool hit = false;
-    int r1 = 0;
-    int c1 = 0;
-    if (!end_of(scan.points[i], hit, r1, c1)) continue;
-    if (r1 == r0 && c1 == c0) continue;
-    // The hit cell itself was raised above; trace the cells before it as misses.
-    trace(r0, c0, r1, c1, false);
-  }
+  // The hit cells were raised above; trace the cells before them as misses.
+  for (std::size_t i = 0; i < beams; ++i) trace(r0, c0, beam_ends_[i].r, beam_ends_[i].c, false);
 }
 
 MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double half_beam_m)
