@@ -95,6 +95,7 @@ void check_section(MapReader& m, const perception::MarkerVoteParams& p) {
 }
 void check_section(MapReader&, const Course1Config&) {}
 void check_section(MapReader& m, const Course2Config& c) { check(m, c.circling.validate()); }
+void check_section(MapReader& m, const guidance::PlanningConfig& p) { check(m, p.validate()); }
 void check_section(MapReader& m, const DockingConfig& d) {
   check(m, d.approach.validate());
   check(m, d.slip.validate());
@@ -119,6 +120,30 @@ void read_course2_colours(MapReader& m, Course2Config& c) {
   if (c.colours.empty() || c.colours.size() > 8) m.error("colours", "must list 1 to 8 colours");
 }
 
+std::vector<core::GeoPoint> read_corners(MapReader& parent, std::string_view key) {
+  std::vector<core::GeoPoint> out;
+  const auto seq = parent.sequence(key);
+  for (std::size_t i = 0; i < seq.size(); ++i) {
+    auto e = parent.element(seq[i], i, key);
+    if (!e) continue;
+    out.push_back(read_geo(*e));
+    e->finish();
+  }
+  return out;
+}
+
+// The planning section's geometry: the field boundary and the no-go polygons.
+void read_planning_areas(MapReader& m, guidance::PlanningConfig& p) {
+  p.boundary = read_corners(m, "boundary");
+  const auto no_go = m.sequence("no_go");
+  for (std::size_t i = 0; i < no_go.size(); ++i) {
+    auto e = m.element(no_go[i], i, "no_go");
+    if (!e) continue;
+    p.no_go.push_back(read_corners(*e, "corners"));
+    e->finish();
+  }
+}
+
 void read_sections(MapReader& root, MissionConfig& mission) {
   if (auto m = root.map("course_frame")) {
     if (m->has("zero_heading_deg")) {
@@ -136,6 +161,7 @@ void read_sections(MapReader& root, MissionConfig& mission) {
     if (!m) return;
     read_table(*m, section, param_table<S>());
     if constexpr (std::is_same_v<S, Course2Config>) read_course2_colours(*m, section);
+    if constexpr (std::is_same_v<S, guidance::PlanningConfig>) read_planning_areas(*m, section);
     check_section(*m, section);
     m->finish();
   });
@@ -363,6 +389,26 @@ std::string to_yaml(const Configuration& c) {
       out << YAML::Key << "colours" << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (const msg::Colour col : section.colours) out << std::string(msg::colour_name(col));
       out << YAML::EndSeq;
+    }
+    if constexpr (std::is_same_v<S, guidance::PlanningConfig>) {
+      const auto corners = [&out](const std::vector<core::GeoPoint>& points) {
+        out << YAML::BeginSeq;
+        for (const core::GeoPoint& g : points) emit_geo(out, g);
+        out << YAML::EndSeq;
+      };
+      if (!section.boundary.empty()) {
+        out << YAML::Key << "boundary" << YAML::Value;
+        corners(section.boundary);
+      }
+      if (!section.no_go.empty()) {
+        out << YAML::Key << "no_go" << YAML::Value << YAML::BeginSeq;
+        for (const auto& polygon : section.no_go) {
+          out << YAML::BeginMap << YAML::Key << "corners" << YAML::Value;
+          corners(polygon);
+          out << YAML::EndMap;
+        }
+        out << YAML::EndSeq;
+      }
     }
     out << YAML::EndMap;
   });

@@ -482,6 +482,87 @@ constexpr std::array kDocking{
         "slip_max_range_m", "m", 1e-3, 100.0, kFixed, "slip finder: farther tips are ignored"),
 };
 
+using guidance::GateParams;
+using guidance::MapPlannerParams;
+using guidance::NavMapParams;
+using guidance::PlanningConfig;
+constexpr std::array kPlanning{
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::resolution_m>(
+        "map.resolution_m", "m", 0.05, 5.0, kFixed, "side of one map cell"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::margin_m>(
+        "map.margin_m", "m", 0.0, 100.0, kFixed, "map margin around the field boundary"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::size_north_m>(
+        "map.size_north_m", "m", 1.0, 1000.0, kFixed,
+        "without a boundary: map extent north-south, centred on the origin"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::size_east_m>(
+        "map.size_east_m", "m", 1.0, 1000.0, kFixed,
+        "without a boundary: map extent east-west, centred on the origin"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::hit_log_odds>(
+        "map.hit_log_odds", "", 0.01, 10.0, kFixed, "evidence added where a beam ends"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::miss_log_odds>(
+        "map.miss_log_odds", "", -10.0, -0.01, kFixed,
+        "evidence added to each cell a beam passes before its return"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::min_log_odds>(
+        "map.min_log_odds", "", -50.0, -0.01, kFixed, "lower clamp of a cell's evidence"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::max_log_odds>(
+        "map.max_log_odds", "", 0.01, 50.0, kFixed, "upper clamp of a cell's evidence"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::occupied_log_odds>(
+        "map.occupied_log_odds", "", -50.0, 50.0, kFixed, "at or above: an obstacle"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::max_range_m>(
+        "map.max_range_m", "m", 0.5, 100.0, kFixed, "beams clear and mark only this far"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::min_range_m>(
+        "map.min_range_m", "m", 0.0, 10.0, kFixed, "nearer returns are the hull or spray"),
+    bool_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::enabled>(
+        "planner.enabled", kFixed,
+        "plan a global path on the map; the reactive avoidance steers to its sub-goal"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::replan_period_s>(
+        "planner.replan_period_s", "s", 0.02, 10.0, kFixed, "replan at most this often"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::clearance_m>(
+        "planner.clearance_m", "m", 0.0, 3.0, kFixed,
+        "obstacles are inflated by the avoidance's half beam plus this"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::lookahead_m>(
+        "planner.lookahead_m", "m", 0.1, 50.0, kFixed, "the sub-goal's distance along the path"),
+    int_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::max_expansions>(
+        "planner.max_expansions", "", 1, 1 << 20, kFixed, "A* expansion budget per plan"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::goal_search_m>(
+        "planner.goal_search_m", "m", 0.0, 5.0, kFixed,
+        "a blocked goal moves to the nearest free cell this near"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::stop_s>(
+        "planner.stop_s", "s", 0.0, 60.0, kFixed, "no path: stop this long"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::back_off_s>(
+        "planner.back_off_s", "s", 0.0, 60.0, kFixed, "no path: then back off this long"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::back_off_thrust_frac>(
+        "planner.back_off_thrust_frac", "", 0.0, 1.0, kFixed, "astern thrust while backing off"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::look_s>(
+        "planner.look_s", "s", 0.0, 60.0, kFixed, "no path: then turn to look this long"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::look_turn_deg>(
+        "planner.look_turn_deg", "deg", -180.0, 180.0, kFixed,
+        "the look turn, relative to the goal's bearing"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::look_thrust_frac>(
+        "planner.look_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while turning to look"),
+    bool_param<PlanningConfig, &PlanningConfig::gates, &GateParams::judge_by_lidar>(
+        "gates.judge_by_lidar", kFixed,
+        "a gate is passed when the track crosses between its buoys as the lidar places them"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::width_m>(
+        "gates.width_m", "m", 0.1, 50.0, kFixed, "gate width, buoy centre to buoy centre"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::width_tolerance_m>(
+        "gates.width_tolerance_m", "m", 0.0, 10.0, kFixed, "accepted error of the width"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::search_radius_m>(
+        "gates.search_radius_m", "m", 0.1, 50.0, kFixed,
+        "a buoy pair's midpoint this near the waypoint is its gate"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::max_angle_deg>(
+        "gates.max_angle_deg", "deg", 0.0, 90.0, kFixed,
+        "the pair's line this near square to the leg"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::max_buoy_length_m>(
+        "gates.max_buoy_length_m", "m", 0.01, 10.0, kFixed, "longer segments are not buoys"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::track_gate_m>(
+        "gates.track_gate_m", "m", 0.01, 10.0, kFixed,
+        "a sighting this near the tracked gate updates it"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::approach_m>(
+        "gates.approach_m", "m", 0.1, 50.0, kFixed,
+        "after a miss, go back to this far before the gate"),
+};
+
 // ---- boat ---------------------------------------------------------------------------------
 
 constexpr std::array kLayouts{
@@ -740,6 +821,10 @@ std::span<const ParamSpec<Course2Config>> param_table() {
 template <>
 std::span<const ParamSpec<DockingConfig>> param_table() {
   return kDocking;
+}
+template <>
+std::span<const ParamSpec<guidance::PlanningConfig>> param_table() {
+  return kPlanning;
 }
 template <>
 std::span<const ParamSpec<BoatConfig>> param_table() {

@@ -167,6 +167,13 @@ json mission_schema() {
     }
     json sec = object_schema();
     add_rows(sec, param_table<S>());
+    if constexpr (std::is_same_v<S, guidance::PlanningConfig>) {
+      json corners = {{"type", "array"}, {"items", geo_schema()}, {"minItems", 3}};
+      sec["properties"]["boundary"] = corners;
+      json polygon = object_schema();
+      polygon["properties"]["corners"] = corners;
+      sec["properties"]["no_go"] = {{"type", "array"}, {"items", polygon}};
+    }
     if constexpr (std::is_same_v<S, Course2Config>) {
       sec["properties"]["colours"] = {{"type", "array"},
                                       {"items", {{"enum", colour_names(false)}}},
@@ -248,7 +255,8 @@ std::string parameter_reference_markdown() {
     }
   });
   out << "\nStructure not in the tables: a mission file's `name`, `origin` (lat_deg, lon_deg, "
-         "height_m), `course_frame.zero_heading_deg`, `course2.colours` and `tasks` (type, "
+         "height_m), `course_frame.zero_heading_deg`, `course2.colours`, `planning.boundary` and "
+         "`planning.no_go` (lists of corners) and `tasks` (type, "
          "name, time_limit_s, on_timeout, style, dock_heading_deg, waypoints, slips, "
          "target_colour, target_shape); see the shipped files in config/.\n";
   return out.str();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -19,15 +20,35 @@ namespace coxswain::mission::detail {
 
 namespace {
 
-/// Avoidance toward the waypoints (the gate); for course 1, then the turn to find the buoy.
+/// The two buoys of a gate as the lidar places them, in the navigation frame of the pose each
+/// scan was taken with, and whether the boat's track has crossed between them.
+struct GateTrack {
+  bool seen = false;
+  core::NavPoint left;   // port end, looking along the leg
+  core::NavPoint right;  // starboard end
+  [[nodiscard]] core::NavPoint mid() const {
+    return {0.5 * (left.north_m + right.north_m), 0.5 * (left.east_m + right.east_m)};
+  }
+};
+
+/// Avoidance toward the waypoints (the gates); for course 1, then the turn to find the buoy.
+/// With the planner: a global path on the map to the waypoint (or through the gate), whose
+/// look-ahead point is the goal the reactive avoidance steers to; no path: stop, back off, turn
+/// to look, replan.
 class AvoidanceTask final : public AvoidingTask {
  public:
   AvoidanceTask(const config::TaskConfig& t, const config::MissionConfig& m,
                 const core::LocalFrame& frame, bool course1)
       : AvoidingTask(t.name, m.avoidance),
-        leg_(m.waypoints, to_route(t.waypoints, frame)),
+        route_(to_route(t.waypoints, frame)),
+        leg_(m.waypoints, route_),
+        wp_(m.waypoints),
         course1_(course1),
         c1_(m.course1),
+        plan_(m.planning.planner),
+        gates_(m.planning.gates),
+        judge_gates_(!course1 && m.planning.gates.judge_by_lidar),
+        legacy_(!m.planning.planner.enabled && !m.planning.gates.judge_by_lidar),
         cruise_(m.speed.cruise_thrust_frac) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
@@ -36,15 +57,69 @@ class AvoidanceTask final : public AvoidingTask {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;
     if (!ctx.lidar_fresh) return reason_printf("no lidar scan");
-    if (!leg_.start(ctx.antenna)) return reason_printf("no waypoints");
+    if (route_.count == 0 || !leg_.start(ctx.antenna)) return reason_printf("no waypoints");
     avoidance_->reset();
     search_ = false;
+    index_ = 0;
+    leg_start_ = ctx.antenna;
+    gate_ = {};
+    passed_count_ = 0;
+    have_prev_ = false;
+    last_plan_ns_ = core::kNeverNs;
+    no_path_ = false;
+    off_map_ = false;
+    failures_ = 0;
+    look_sign_ = 1.0;
     set_phase(course1_ ? "to_waypoint" : "navigate", "task entered");
     return {};
   }
 
   TaskResult step(const TaskContext& ctx, GuidanceRequest& out) override {
     if (search_) return search(ctx, out);
+    if (legacy_) return legacy_step(ctx, out);
+    if (judge_gates_ && ctx.lidar_new && ctx.obstacles != nullptr) track_gate(ctx);
+    if (advance(ctx)) {
+      // The task's reason holds how the last waypoint was judged.
+      if (!course1_) return TaskResult::kDone;
+      return start_search(ctx, out);
+    }
+    const core::NavPoint goal = steering_goal(ctx);
+    core::NavPoint aim = goal;
+    // The last metres through a gate are the avoidance's: the inflated buoys leave the planner
+    // a passage only a cell or two wide.
+    const bool in_gate_mouth = judge_gates_ && gate_.seen && gate_side(ctx.antenna) < 0.0 &&
+                               core::distance_m(ctx.antenna, gate_.mid()) < kGateMouthM;
+    if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && !in_gate_mouth) {
+      replan(ctx, goal);
+      if (no_path_) return recover(ctx, out);
+      if (!off_map_) {
+        if (const auto sg = ctx.planner->subgoal(ctx.antenna)) aim = *sg;
+      }
+    }
+    fill_viz(ctx, goal);
+    steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    return TaskResult::kRunning;
+  }
+
+ private:
+  static constexpr std::size_t kMaxPassed = 16;
+
+  TaskResult start_search(const TaskContext& ctx, GuidanceRequest& out) {
+    search_ = true;
+    search_since_ns_ = ctx.now_ns;
+    search_heading_deg_ = core::wrap_deg(ctx.pose.heading_deg + c1_.turn_deg);
+    set_phase(
+        "search_buoy",
+        reason_printf("reached the waypoint; turning %.0f deg to find "
+                      "the %s buoy",
+                      c1_.turn_deg, std::string_view(msg::colour_name(c1_.buoy_colour)).data())
+            .view());
+    return search(ctx, out);
+  }
+
+  /// Without the planner and the lidar gates (both off in the mission file): the reactive
+  /// avoidance toward the waypoint follower's heading, the arrival judged on the GNSS estimate.
+  TaskResult legacy_step(const TaskContext& ctx, GuidanceRequest& out) {
     const guidance::WaypointGuidance g = leg_.update(ctx);
     if (g.event != guidance::WaypointEvent::kNone && !g.finished) {
       set_reason(event_reason(g, core::distance_m(ctx.antenna, leg_.point(g.event_index))).view());
@@ -54,18 +129,14 @@ class AvoidanceTask final : public AvoidingTask {
         set_reason(reason_printf("passed the final gate"));
         return TaskResult::kDone;
       }
-      search_ = true;
-      search_since_ns_ = ctx.now_ns;
-      search_heading_deg_ = core::wrap_deg(ctx.pose.heading_deg + c1_.turn_deg);
-      set_phase(
-          "search_buoy",
-          reason_printf("reached the waypoint; turning %.0f deg to find "
-                        "the %s buoy",
-                        c1_.turn_deg, std::string_view(msg::colour_name(c1_.buoy_colour)).data())
-              .view());
-      return search(ctx, out);
+      return start_search(ctx, out);
     }
-    const double goal_body = core::angle_diff_deg(g.desired_heading_deg, ctx.pose.heading_deg);
+    steer(ctx, g.desired_heading_deg, out);
+    return TaskResult::kRunning;
+  }
+
+  void steer(const TaskContext& ctx, double desired_deg, GuidanceRequest& out) {
+    const double goal_body = core::angle_diff_deg(desired_deg, ctx.pose.heading_deg);
     const guidance::AvoidanceDecision d = avoidance_->decide(*ctx.obstacles, goal_body, ctx.now_ns);
     VizFrame& v = *ctx.viz;
     v.has_avoidance = true;
@@ -79,10 +150,273 @@ class AvoidanceTask final : public AvoidingTask {
     out.desired_heading_deg = core::wrap_deg(ctx.pose.heading_deg + d.bearing_body_deg);
     out.thrust_frac = cruise_;
     out.speed_factor = d.speed_factor;
+  }
+  static constexpr double kBuoyIsolationM = 0.8;
+  static constexpr double kGateMouthM = 3.0;
+
+  [[nodiscard]] core::NavPoint target() const { return route_.points[index_]; }
+
+  /// Unit vector along the current leg (north, east); north when the leg has no length.
+  [[nodiscard]] core::NavPoint leg_dir() const {
+    const core::NavPoint t = target();
+    const double dn = t.north_m - leg_start_.north_m;
+    const double de = t.east_m - leg_start_.east_m;
+    const double len = std::hypot(dn, de);
+    if (!(len > 1e-6)) return {1.0, 0.0};
+    return {dn / len, de / len};
+  }
+
+  /// The gate's forward normal: square to the buoys' line, on the leg's side.
+  [[nodiscard]] core::NavPoint gate_normal() const {
+    const double dn = gate_.right.north_m - gate_.left.north_m;
+    const double de = gate_.right.east_m - gate_.left.east_m;
+    const double len = std::max(std::hypot(dn, de), 1e-6);
+    // Left to right turned 90 deg to port is forward (north-east frame, clockwise headings).
+    core::NavPoint n{de / len, -dn / len};
+    const core::NavPoint l = leg_dir();
+    if (n.north_m * l.north_m + n.east_m * l.east_m < 0.0) n = {-n.north_m, -n.east_m};
+    return n;
+  }
+
+  [[nodiscard]] double gate_side(core::NavPoint p) const {
+    const core::NavPoint n = gate_normal();
+    const core::NavPoint c = gate_.mid();
+    return (p.north_m - c.north_m) * n.north_m + (p.east_m - c.east_m) * n.east_m;
+  }
+
+  /// Looks for the current waypoint's gate among this scan's buoys (and follows it once seen).
+  void track_gate(const TaskContext& ctx) {
+    const perception::ObstacleList& obs = *ctx.obstacles;
+    const std::uint32_t n =
+        std::min<std::uint32_t>(obs.count, perception::ObstacleList::kMaxSegments);
+    std::size_t count = 0;
+    for (std::uint32_t i = 0; i < n && count < buoys_.size(); ++i) {
+      const perception::ObstacleSegment& s = obs.segments[i];
+      if (s.kind == perception::ObstacleKind::kWall) continue;
+      const double len =
+          std::hypot(s.end.forward_m - s.begin.forward_m, s.end.starboard_m - s.begin.starboard_m);
+      if (len > gates_.max_buoy_length_m) continue;
+      const core::BodyPoint mid{0.5 * (s.begin.forward_m + s.end.forward_m),
+                                0.5 * (s.begin.starboard_m + s.end.starboard_m)};
+      // A buoy stands alone: a short piece with other pieces beside it is part of a wall or
+      // dock (the far ends of a wall break into short pieces too).
+      bool alone = true;
+      for (std::uint32_t j = 0; j < n && alone; ++j) {
+        if (j == i) continue;
+        const perception::ObstacleSegment& o = obs.segments[j];
+        const auto near = [&](core::BodyPoint q) {
+          return std::hypot(q.forward_m - mid.forward_m, q.starboard_m - mid.starboard_m) <
+                 kBuoyIsolationM;
+        };
+        alone = !near(o.begin) && !near(o.end);
+      }
+      if (!alone) continue;
+      buoys_[count++] = core::body_to_nav(ctx.pose, mid);
+    }
+    const core::NavPoint wp = target();
+    const core::NavPoint l = leg_dir();
+    const double cos_max = std::cos(core::deg_to_rad(90.0 - gates_.max_angle_deg));
+    double best = std::numeric_limits<double>::infinity();
+    GateTrack found;
+    for (std::size_t i = 0; i < count; ++i) {
+      for (std::size_t j = i + 1; j < count; ++j) {
+        const core::NavPoint a = buoys_[i];
+        const core::NavPoint b = buoys_[j];
+        const double d = core::distance_m(a, b);
+        if (std::abs(d - gates_.width_m) > gates_.width_tolerance_m) continue;
+        const core::NavPoint mid{0.5 * (a.north_m + b.north_m), 0.5 * (a.east_m + b.east_m)};
+        // Square to the leg: the buoys' line makes at most max_angle_deg with the leg's normal.
+        const double along =
+            std::abs(((b.north_m - a.north_m) * l.north_m + (b.east_m - a.east_m) * l.east_m) / d);
+        if (along > cos_max) continue;
+        bool passed = false;
+        for (std::size_t k = 0; k < std::min(passed_count_, kMaxPassed); ++k) {
+          passed = passed || core::distance_m(mid, passed_[k]) < gates_.track_gate_m;
+        }
+        if (passed) continue;
+        double score = 0.0;
+        if (gate_.seen) {
+          score = core::distance_m(mid, gate_.mid());
+          if (score > gates_.track_gate_m) continue;
+        } else {
+          score = core::distance_m(mid, wp);
+          if (score > gates_.search_radius_m) continue;
+        }
+        if (score >= best) continue;
+        best = score;
+        // Port end first, looking along the leg.
+        const double cross = l.north_m * (b.east_m - a.east_m) - l.east_m * (b.north_m - a.north_m);
+        found.seen = true;
+        found.left = cross > 0.0 ? a : b;
+        found.right = cross > 0.0 ? b : a;
+      }
+    }
+    if (!found.seen) return;
+    if (!gate_.seen) {
+      gate_ = found;
+      return;
+    }
+    constexpr double kAlpha = 0.5;
+    gate_.left.north_m += kAlpha * (found.left.north_m - gate_.left.north_m);
+    gate_.left.east_m += kAlpha * (found.left.east_m - gate_.left.east_m);
+    gate_.right.north_m += kAlpha * (found.right.north_m - gate_.right.north_m);
+    gate_.right.east_m += kAlpha * (found.right.east_m - gate_.right.east_m);
+  }
+
+  void next_waypoint(const TaskContext& ctx, bool arrived) {
+    if (gate_.seen && passed_count_ < kMaxPassed) passed_[passed_count_++] = gate_.mid();
+    if (arrived) {
+      ++ctx.status->waypoints_arrived;
+    } else {
+      ++ctx.status->waypoints_missed;
+    }
+    leg_start_ = target();
+    ++index_;
+    gate_ = {};
+    have_prev_ = false;
+    last_plan_ns_ = core::kNeverNs;
+  }
+
+  /// Judges the current waypoint; true when the route is done.
+  bool advance(const TaskContext& ctx) {
+    const core::NavPoint p = ctx.antenna;
+    if (judge_gates_ && gate_.seen) {
+      // Judged on the lidar's buoys: the track must cross the segment between them.
+      const double side = gate_side(p);
+      if (have_prev_ && prev_side_ < 0.0 && side >= 0.0) {
+        const double f = prev_side_ / (prev_side_ - side);
+        const core::NavPoint x{prev_.north_m + f * (p.north_m - prev_.north_m),
+                               prev_.east_m + f * (p.east_m - prev_.east_m)};
+        const double dn = gate_.right.north_m - gate_.left.north_m;
+        const double de = gate_.right.east_m - gate_.left.east_m;
+        const double t =
+            ((x.north_m - gate_.left.north_m) * dn + (x.east_m - gate_.left.east_m) * de) /
+            std::max(dn * dn + de * de, 1e-9);
+        if (t >= 0.0 && t <= 1.0) {
+          set_reason(reason_printf("passed gate %zu between its buoys (lidar, %.0f%% across)",
+                                   index_ + 1, 100.0 * t));
+          if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
+            set_phase(course1_ ? "to_waypoint" : "navigate", reason());
+          }
+          next_waypoint(ctx, true);
+          return index_ >= route_.count;
+        }
+        const double out_m =
+            t < 0.0 ? -t * std::sqrt(dn * dn + de * de) : (t - 1.0) * std::sqrt(dn * dn + de * de);
+        set_phase("turn_back", reason_printf("missed gate %zu: crossed %.1f m outside its %s buoy; "
+                                             "turning back",
+                                             index_ + 1, out_m, t < 0.0 ? "port" : "starboard"));
+        ++ctx.status->waypoints_missed;
+      } else if (have_prev_ && prev_side_ >= 0.0 && side < 0.0 && phase() == "turn_back") {
+        set_phase(course1_ ? "to_waypoint" : "navigate",
+                  reason_printf("back before gate %zu", index_ + 1));
+      }
+      prev_ = p;
+      prev_side_ = side;
+      have_prev_ = true;
+      return false;
+    }
+    // Fallback (no buoys seen): the GNSS estimate inside the arrival radius, or passed abeam.
+    const core::NavPoint t = target();
+    const double dist = core::distance_m(p, t);
+    if (dist <= wp_.arrival_radius_m) {
+      set_reason(reason_printf("arrived at waypoint %zu (%.1f m, GNSS)", index_ + 1, dist).view());
+      next_waypoint(ctx, true);
+      return index_ >= route_.count;
+    }
+    const core::NavPoint l = leg_dir();
+    const double along = (p.north_m - t.north_m) * l.north_m + (p.east_m - t.east_m) * l.east_m;
+    if (along > 0.0 && dist <= wp_.slip_radius_m && !judge_gates_) {
+      set_reason(reason_printf("missed waypoint %zu (%.1f m)", index_ + 1, dist).view());
+      next_waypoint(ctx, false);
+      return index_ >= route_.count;
+    }
+    return false;
+  }
+
+  /// Where the path goes: through the gate (to a point beyond it) when the boat is before it,
+  /// back to a point before it when past it; else the waypoint.
+  [[nodiscard]] core::NavPoint steering_goal(const TaskContext& ctx) const {
+    if (!(judge_gates_ && gate_.seen)) return target();
+    const core::NavPoint n = gate_normal();
+    const core::NavPoint c = gate_.mid();
+    const double side = gate_side(ctx.antenna);
+    const double k = side < 0.0 ? 1.5 : -gates_.approach_m;
+    return {c.north_m + k * n.north_m, c.east_m + k * n.east_m};
+  }
+
+  void replan(const TaskContext& ctx, core::NavPoint goal) {
+    const bool goal_moved = core::distance_m(goal, planned_goal_) > 0.5;
+    if (last_plan_ns_ != core::kNeverNs && !goal_moved &&
+        core::ns_to_sec(ctx.now_ns - last_plan_ns_) < plan_.replan_period_s) {
+      return;
+    }
+    last_plan_ns_ = ctx.now_ns;
+    planned_goal_ = goal;
+    const guidance::PlanStatus st = ctx.planner->plan(*ctx.map, ctx.antenna, goal);
+    off_map_ = st == guidance::PlanStatus::kStartOutside;
+    if (off_map_) return;  // no map out here: the avoidance alone, toward the goal
+    if (st == guidance::PlanStatus::kOk) {
+      failures_ = 0;
+      if (no_path_) {
+        no_path_ = false;
+        set_phase(course1_ ? "to_waypoint" : "navigate", "path found again");
+      }
+      return;
+    }
+    // One failed plan may be a noisy scan; two in a row is no way through.
+    if (++failures_ >= 2 && !no_path_) {
+      no_path_ = true;
+      no_path_since_ns_ = ctx.now_ns;
+      look_heading_deg_ = look_heading(ctx);
+      look_sign_ = -look_sign_;
+      set_phase("no_path", reason_printf("no path to the goal (%s): stop, back off, look",
+                                         guidance::to_string(st)));
+    }
+  }
+
+  /// Square to the goal's bearing, one side then the other: looking round, never at the goal.
+  double look_heading(const TaskContext& ctx) const {
+    const double to_goal = core::bearing_deg(ctx.antenna, planned_goal_);
+    return core::wrap_deg(to_goal + look_sign_ * plan_.look_turn_deg);
+  }
+
+  /// No path: stop, back off, turn to look; the replans above end it. Never toward the goal.
+  TaskResult recover(const TaskContext& ctx, GuidanceRequest& out) {
+    double t = core::ns_to_sec(ctx.now_ns - no_path_since_ns_);
+    const double cycle = plan_.stop_s + plan_.back_off_s + plan_.look_s;
+    if (cycle > 0.0 && t >= cycle) {
+      // A new cycle looks the other way.
+      no_path_since_ns_ = ctx.now_ns;
+      look_heading_deg_ = look_heading(ctx);
+      look_sign_ = -look_sign_;
+      t = 0.0;
+    }
+    out.steer = true;
+    out.desired_heading_deg = ctx.pose.heading_deg;
+    out.thrust_frac = 0.0;
+    if (t >= plan_.stop_s + plan_.back_off_s) {
+      out.desired_heading_deg = look_heading_deg_;
+      out.thrust_frac = plan_.look_thrust_frac;
+    } else if (t >= plan_.stop_s) {
+      out.thrust_frac = plan_.back_off_thrust_frac;
+      out.speed_factor = -1.0;
+    }
+    fill_viz(ctx, steering_goal(ctx));
     return TaskResult::kRunning;
   }
 
- private:
+  void fill_viz(const TaskContext& ctx, core::NavPoint goal) const {
+    VizFrame& v = *ctx.viz;
+    v.has_goal = true;
+    v.goal = goal;
+    v.arrival_radius_m = wp_.arrival_radius_m;
+    v.active_waypoint = static_cast<std::int32_t>(index_);
+    v.has_leg = true;
+    v.leg_start = leg_start_;
+    v.distance_to_go_m = core::distance_m(ctx.antenna, goal);
+  }
+
   TaskResult search(const TaskContext& ctx, GuidanceRequest& out) {
     if (ctx.camera_new && ctx.camera != nullptr) {
       if (const msg::Detection* d = largest_of(*ctx.camera, c1_.buoy_colour)) {
@@ -102,13 +436,38 @@ class AvoidanceTask final : public AvoidingTask {
     return TaskResult::kRunning;
   }
 
+  Route route_;
   RouteLeg leg_;
+  guidance::WaypointFollowerParams wp_;
   bool course1_;
   config::Course1Config c1_;
+  guidance::MapPlannerParams plan_;
+  guidance::GateParams gates_;
+  bool judge_gates_;
+  bool legacy_;
   double cruise_;
   bool search_ = false;
   core::TimeNs search_since_ns_ = 0;
   double search_heading_deg_ = 0.0;
+  // Route and gates.
+  std::size_t index_ = 0;
+  core::NavPoint leg_start_;
+  GateTrack gate_;
+  std::array<core::NavPoint, kMaxPassed> passed_{};
+  std::size_t passed_count_ = 0;
+  std::array<core::NavPoint, perception::ObstacleList::kMaxSegments> buoys_{};
+  bool have_prev_ = false;
+  core::NavPoint prev_;
+  double prev_side_ = 0.0;
+  // Planning.
+  core::TimeNs last_plan_ns_ = core::kNeverNs;
+  core::NavPoint planned_goal_;
+  int failures_ = 0;
+  bool no_path_ = false;
+  bool off_map_ = false;
+  core::TimeNs no_path_since_ns_ = 0;
+  double look_heading_deg_ = 0.0;
+  double look_sign_ = 1.0;
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/nav_map.hpp"
 #include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
@@ -128,6 +130,35 @@ struct MissionCore::Impl {
     }
     status.task_count = static_cast<std::uint32_t>(tasks.size());
     path.assign("wait_for_start");
+    build_map();
+  }
+
+  /// The map and its planner, for the tasks that plan (obstacle course, course 1); sized from the
+  /// mission file once, here.
+  void build_map() {
+    bool plans = false;
+    for (const auto& t : m.tasks) {
+      plans = plans || t.type == config::TaskType::kObstacleCourse ||
+              t.type == config::TaskType::kCourse1;
+    }
+    if (!plans) return;
+    if (std::string e = m.planning.validate(); !e.empty()) {
+      throw std::invalid_argument("planning: " + e);
+    }
+    std::vector<core::NavPoint> boundary;
+    for (const auto& g : m.planning.boundary) boundary.push_back(frame.to_nav(g));
+    std::vector<std::vector<core::NavPoint>> no_go;
+    for (const auto& poly : m.planning.no_go) {
+      no_go.emplace_back();
+      for (const auto& g : poly) no_go.back().push_back(frame.to_nav(g));
+    }
+    std::vector<core::NavPoint> extent;
+    for (const auto& t : m.tasks) {
+      for (const auto& g : t.waypoints) extent.push_back(frame.to_nav(g));
+      for (const auto& g : t.slips) extent.push_back(frame.to_nav(g));
+    }
+    map.emplace(m.planning.map, boundary, no_go, extent);
+    planner.emplace(*map, m.planning.planner, m.avoidance.half_beam_m);
   }
 
   // ---- per-tick inputs ----------------------------------------------------------------------
@@ -193,6 +224,10 @@ struct MissionCore::Impl {
     position_valid = gnss_fresh && fix_usable && has_fix;
     if (has_fix) raw_antenna = position_filter.position_at(now);
     update_pose();
+    // The map takes each scan at the pose it was taken with (this tick's estimate).
+    if (map && lidar_new && has_fix && has_heading) {
+      map->add_scan(s.lidar.value, pose, m.clustering.hull);
+    }
   }
 
   /// The antenna's offset from the body origin in the navigation frame at the current heading.
@@ -347,6 +382,8 @@ struct MissionCore::Impl {
     c.camera_fresh = camera_fresh;
     c.camera_new = camera_new;
     c.camera = s.camera.valid() ? &s.camera.value : nullptr;
+    c.map = map ? &*map : nullptr;
+    c.planner = planner ? &*planner : nullptr;
     const config::TaskConfig& tc = m.tasks[task_index];
     c.target_colour = tc.target_colour;
     c.target_shape = tc.target_shape;
@@ -445,6 +482,8 @@ struct MissionCore::Impl {
       status.gps_calibrated = true;
       update_pose();
     }
+    // What was mapped while waiting sits where the uncalibrated fixes put it.
+    if (map) map->clear_evidence();
     course_zero_deg = m.navigation.course_zero_deg.value_or(heading_deg);
     top = Top::kActive;
     status.started = true;
@@ -585,6 +624,8 @@ struct MissionCore::Impl {
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
   perception::RangeProfile profile;
+  std::optional<guidance::NavMap> map;
+  std::optional<guidance::MapPlanner> planner;
   // The camera detectors' tunables: kept for the live view, used by the camera thread.
   perception::VisionParams vision = perception::VisionParams::defaults();
   std::vector<std::unique_ptr<Task>> tasks;

@@ -14,6 +14,7 @@
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/guidance/avoidance.hpp"
+#include "coxswain/guidance/nav_map.hpp"
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/perception/obstacles.hpp"
@@ -41,6 +42,9 @@ struct TaskContext {
   bool camera_fresh = false;
   bool camera_new = false;  // a frame arrived this tick
   const msg::CameraDetections* camera = nullptr;
+  /// The mission's map and planner (null when no task plans). The map is current for this tick.
+  const guidance::NavMap* map = nullptr;
+  guidance::MapPlanner* planner = nullptr;
   msg::Colour target_colour = msg::Colour::kUnknown;  // operator input, else the task's
   msg::Shape target_shape = msg::Shape::kUnknown;
   double course_zero_deg = 0.0;

@@ -15,6 +15,7 @@
 #include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/nav_map.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
@@ -148,6 +149,7 @@ struct MissionConfig {
   Course1Config course1;
   Course2Config course2;
   DockingConfig docking;
+  guidance::PlanningConfig planning;  // map, global planner, lidar-judged gates
 };
 
 std::string_view task_type_name(TaskType type);

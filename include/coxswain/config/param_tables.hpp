@@ -43,6 +43,8 @@ template <>
 std::span<const core::ParamSpec<Course2Config>> param_table();
 template <>
 std::span<const core::ParamSpec<DockingConfig>> param_table();
+template <>
+std::span<const core::ParamSpec<guidance::PlanningConfig>> param_table();
 // Boat.
 template <>
 std::span<const core::ParamSpec<BoatConfig>> param_table();
@@ -76,6 +78,7 @@ void for_each_mission_section(M& m, F&& f) {
   f(std::string_view{"course1"}, m.course1);
   f(std::string_view{"course2"}, m.course2);
   f(std::string_view{"docking"}, m.docking);
+  f(std::string_view{"planning"}, m.planning);
 }
 
 /// The same for a devices file.

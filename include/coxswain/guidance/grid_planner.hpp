@@ -4,6 +4,7 @@
 // down-sampled cost map, its path followed by pure pursuit). The grid lives in the navigation
 // frame so obstacles persist while the boat turns; evidence decays so moved or spurious returns
 // fade; obstacles are inflated by the hull so a path is a path for the whole boat.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -36,11 +37,30 @@ struct GridCell {
   std::uint32_t col = 0;
 };
 
+enum class CellState : std::uint8_t { kFree = 0, kInflated = 1, kOccupied = 2 };
+
+/// What the planner reads: the shape of a grid and its blocked layer (not owned). Both
+/// OccupancyGrid and the mission's NavMap planner hand one out.
+struct GridView {
+  std::uint32_t rows = 0;
+  std::uint32_t cols = 0;
+  double resolution_m = 1.0;
+  core::NavPoint origin{};  // south-west corner of cell (0, 0)
+  const CellState* state = nullptr;
+
+  [[nodiscard]] std::optional<GridCell> cell_of(core::NavPoint p) const;
+  [[nodiscard]] core::NavPoint center_of(GridCell c) const;
+  [[nodiscard]] std::size_t index(GridCell c) const {
+    return static_cast<std::size_t>(c.row) * cols + c.col;
+  }
+  [[nodiscard]] CellState at(GridCell c) const { return state[index(c)]; }
+};
+
 /// Occupancy evidence per cell plus the hull-inflated blocked layer. Storage is allocated once
 /// in `create`; `update` allocates nothing. Not thread-safe.
 class OccupancyGrid {
  public:
-  enum class State : std::uint8_t { kFree = 0, kInflated = 1, kOccupied = 2 };
+  using State = CellState;
 
   [[nodiscard]] static std::optional<OccupancyGrid> create(const GridParams& params,
                                                            std::string* error = nullptr);
@@ -65,6 +85,9 @@ class OccupancyGrid {
   [[nodiscard]] std::size_t index(GridCell c) const {
     return static_cast<std::size_t>(c.row) * params_.cols + c.col;
   }
+  [[nodiscard]] GridView view() const {
+    return {params_.rows, params_.cols, params_.resolution_m, params_.origin, state_.data()};
+  }
 
  private:
   explicit OccupancyGrid(const GridParams& params);
@@ -84,6 +107,7 @@ enum class PlanStatus : std::uint8_t {
   kGoalOutside = 2,
   kGoalBlocked = 3,  // the goal cell is an obstacle or within the hull inflation
   kNoPath = 4,       // enclosed
+  kBudget = 5,       // the expansion budget ran out before the goal was reached
 };
 [[nodiscard]] const char* to_string(PlanStatus s);
 
@@ -98,7 +122,13 @@ class AStarPlanner {
   AStarPlanner(std::uint32_t rows, std::uint32_t cols);
 
   [[nodiscard]] PlanStatus plan(const OccupancyGrid& grid, core::NavPoint start,
-                                core::NavPoint goal);
+                                core::NavPoint goal) {
+    return plan(grid.view(), start, goal);
+  }
+  /// As above on any grid of this planner's shape; gives up with kBudget after `max_expanded`
+  /// expansions (a bound on the time one plan may take).
+  [[nodiscard]] PlanStatus plan(const GridView& grid, core::NavPoint start, core::NavPoint goal,
+                                std::size_t max_expanded = SIZE_MAX);
   /// The last successful path (empty after a failure).
   [[nodiscard]] const std::vector<core::NavPoint>& path() const { return path_; }
   /// Cells expanded by the last call (for benchmarks and tests).

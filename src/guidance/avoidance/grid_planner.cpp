@@ -71,17 +71,21 @@ void OccupancyGrid::decay() {
   for (float& e : evidence_) e *= params_.decay_per_update;
 }
 
-std::optional<GridCell> OccupancyGrid::cell_of(core::NavPoint p) const {
-  const double r = std::floor((p.north_m - params_.origin.north_m) / params_.resolution_m);
-  const double c = std::floor((p.east_m - params_.origin.east_m) / params_.resolution_m);
-  if (!(r >= 0.0 && c >= 0.0 && r < params_.rows && c < params_.cols)) return std::nullopt;
+std::optional<GridCell> GridView::cell_of(core::NavPoint p) const {
+  const double r = std::floor((p.north_m - origin.north_m) / resolution_m);
+  const double c = std::floor((p.east_m - origin.east_m) / resolution_m);
+  if (!(r >= 0.0 && c >= 0.0 && r < rows && c < cols)) return std::nullopt;
   return GridCell{static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c)};
 }
 
-core::NavPoint OccupancyGrid::center_of(GridCell c) const {
-  return {params_.origin.north_m + (c.row + 0.5) * params_.resolution_m,
-          params_.origin.east_m + (c.col + 0.5) * params_.resolution_m};
+core::NavPoint GridView::center_of(GridCell c) const {
+  return {origin.north_m + (c.row + 0.5) * resolution_m,
+          origin.east_m + (c.col + 0.5) * resolution_m};
 }
+
+std::optional<GridCell> OccupancyGrid::cell_of(core::NavPoint p) const { return view().cell_of(p); }
+
+core::NavPoint OccupancyGrid::center_of(GridCell c) const { return view().center_of(c); }
 
 void OccupancyGrid::mark_segment(core::NavPoint a, core::NavPoint b) {
   const double len = core::distance_m(a, b);
@@ -148,6 +152,8 @@ const char* to_string(PlanStatus s) {
       return "goal_blocked";
     case PlanStatus::kNoPath:
       return "no_path";
+    case PlanStatus::kBudget:
+      return "budget";
   }
   return "unknown";
 }
@@ -222,16 +228,16 @@ std::uint32_t AStarPlanner::heap_pop() {
   return top;
 }
 
-PlanStatus AStarPlanner::plan(const OccupancyGrid& grid, core::NavPoint start,
-                              core::NavPoint goal) {
+PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::NavPoint goal,
+                              std::size_t max_expanded) {
   path_.clear();
   expanded_ = 0;
-  if (grid.rows() != rows_ || grid.cols() != cols_) return PlanStatus::kNoPath;
+  if (grid.rows != rows_ || grid.cols != cols_ || grid.state == nullptr) return PlanStatus::kNoPath;
   const auto s_cell = grid.cell_of(start);
   if (!s_cell) return PlanStatus::kStartOutside;
   const auto g_cell = grid.cell_of(goal);
   if (!g_cell) return PlanStatus::kGoalOutside;
-  if (grid.state(*g_cell) != OccupancyGrid::State::kFree) return PlanStatus::kGoalBlocked;
+  if (grid.at(*g_cell) != CellState::kFree) return PlanStatus::kGoalBlocked;
 
   std::fill(g_.begin(), g_.end(), kInfF);
   std::fill(heap_pos_.begin(), heap_pos_.end(), kNotInHeap);
@@ -244,18 +250,19 @@ PlanStatus AStarPlanner::plan(const OccupancyGrid& grid, core::NavPoint start,
   h_[s] = octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
   f_[s] = h_[s];
   parent_[s] = s;
-  escaping_[s] = grid.state(*s_cell) != OccupancyGrid::State::kFree ? 1 : 0;
+  escaping_[s] = grid.at(*s_cell) != CellState::kFree ? 1 : 0;
   heap_push(s);
 
   const auto passable = [&](std::uint32_t from, std::int64_t r, std::int64_t c) {
     if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return false;
-    const auto st = grid.state({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c)});
-    if (st == OccupancyGrid::State::kFree) return true;
-    return st == OccupancyGrid::State::kInflated && escaping_[from] != 0;
+    const auto st = grid.at({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c)});
+    if (st == CellState::kFree) return true;
+    return st == CellState::kInflated && escaping_[from] != 0;
   };
 
   bool found = false;
   while (heap_size_ > 0) {
+    if (expanded_ >= max_expanded) return PlanStatus::kBudget;
     const std::uint32_t cur = heap_pop();
     ++expanded_;
     if (cur == t) {
@@ -280,9 +287,8 @@ PlanStatus AStarPlanner::plan(const OccupancyGrid& grid, core::NavPoint start,
         if (!(cand < g_[nb])) continue;
         g_[nb] = cand;
         parent_[nb] = cur;
-        const bool nb_free =
-            grid.state({static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc)}) ==
-            OccupancyGrid::State::kFree;
+        const bool nb_free = grid.at({static_cast<std::uint32_t>(nr),
+                                      static_cast<std::uint32_t>(nc)}) == CellState::kFree;
         escaping_[nb] = nb_free ? 0 : 1;
         if (heap_pos_[nb] == kNotInHeap) {
           h_[nb] = octile(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc),

@@ -55,6 +55,42 @@ TEST(MissionAllocation, StepDoesNotAllocate) {
   EXPECT_GT(rig->out.viz.segment_count, 0U);
 }
 
+// The map takes every scan, the planner replans a few times a second and the gate is tracked
+// and judged, all in fixed storage.
+TEST(MissionAllocation, MappingPlanningAndGateJudgingDoNotAllocate) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({15.0, 0.0}));
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  for (const core::NavPoint p : {core::NavPoint{-10.0, -10.0}, core::NavPoint{-10.0, 10.0},
+                                 core::NavPoint{50.0, 10.0}, core::NavPoint{50.0, -10.0}}) {
+    c.mission.planning.boundary.push_back(f.to_geo(p));
+  }
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  rig->world_buoys.push_back({{15.0, -1.5}, 0.2});
+  rig->world_buoys.push_back({{15.0, 1.5}, 0.2});
+  rig->world_buoys.push_back({{8.0, 0.3}, 0.4});
+  rig->log.reserve(64);
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  const long before = g_allocations.load();
+  for (int i = 0; i < 1000; ++i) {
+    if (i % 5 == 0) {
+      rig->scan_world();
+      rig->lidar();
+    }
+    if (i % 10 == 0) rig->gnss(rig->position);
+    rig->imu(rig->heading_deg);
+    rig->publish_arduino();
+    rig->core.step(*rig->snap, rig->now, rig->out);
+    rig->integrate();
+    rig->now += kTickNs;
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_GE(rig->out.status.waypoints_arrived, 1U);  // through the gate on the way
+}
+
 // A live parameter set applied between two steps may allocate (the clusterer's buffers, an
 // operator action); the steps after it must not.
 TEST(MissionAllocation, StepsAfterALiveParameterChangeDoNotAllocate) {

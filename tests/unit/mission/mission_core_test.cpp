@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <type_traits>
 
 #include "coxswain/guidance/avoidance.hpp"
@@ -400,8 +401,156 @@ TEST(MissionObstacleCourse, UnicycleAvoidsABuoyOnTheLineAndPassesTheGate) {
   ASSERT_TRUE(done) << rig->log_text() << rig->path();
   EXPECT_TRUE(avoided);
   EXPECT_GT(closest_m, 1.0);  // the buoy's surface kept at more than 0.5 m from the track
-  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: passed the final gate"))
+  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: arrived at waypoint 1"))
       << rig->log_text();
+}
+
+// ---- the map, the planner and gates judged by the lidar ------------------------------------
+
+config::Configuration gate_config() {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({20.0, 0.0}));  // the gate's centre
+  c.mission.tasks[0].time_limit_s = 120.0;
+  return c;
+}
+
+// Where the true track crosses north = `north_m` (east), if it did.
+struct Crossing {
+  std::optional<double> east_m;
+  core::NavPoint prev;
+  bool have = false;
+  void add(core::NavPoint p, double north_m) {
+    if (have && prev.north_m < north_m && p.north_m >= north_m && !east_m) {
+      const double f = (north_m - prev.north_m) / (p.north_m - prev.north_m);
+      east_m = prev.east_m + f * (p.east_m - prev.east_m);
+    }
+    prev = p;
+    have = true;
+  }
+};
+
+TEST(MissionObstacleCourse, AGateIsJudgedOnTheBuoysTheLidarSeesNotOnABiasedGnssFix) {
+  auto rig = std::make_unique<Rig>(gate_config());
+  rig->move = true;
+  rig->gnss_bias = {0.0, 2.0};  // the fix 2 m east of the truth: aiming at it misses the gate
+  rig->world_buoys.push_back({{20.0, -1.5}, 0.2});
+  rig->world_buoys.push_back({{20.0, 1.5}, 0.2});
+  Crossing x;
+  const bool done = rig->run_until(
+      [&] {
+        x.add(rig->position, 20.0);
+        return rig->out.status.finished;
+      },
+      100.0);
+  ASSERT_TRUE(done) << rig->log_text();
+  EXPECT_TRUE(rig->logged("passed gate 1 between its buoys (lidar")) << rig->log_text();
+  // The rig's lidar sits at its GNSS point, the core's at the bow: the lines differ by a few
+  // decimetres; the boat glides on over the true line after the finish.
+  for (int i = 0; i < 100; ++i) {
+    rig->tick();
+    x.add(rig->position, 20.0);
+  }
+  ASSERT_TRUE(x.east_m.has_value())
+      << rig->log_text() << rig->position.north_m << ", " << rig->position.east_m;
+  EXPECT_LT(std::abs(*x.east_m), 1.2) << *x.east_m;  // between the buoys, clear of both
+}
+
+TEST(MissionObstacleCourse, ATrackCrossingOutsideTheGateTurnsTheBoatBackAndNeverFinishesTheCourse) {
+  auto rig = std::make_unique<Rig>(gate_config());
+  rig->world_buoys.push_back({{20.0, -1.5}, 0.2});
+  rig->world_buoys.push_back({{20.0, 1.5}, 0.2});
+  // The track is scripted (the boat does not follow the commands): up past the gate's port buoy.
+  const auto sail = [&rig](core::NavPoint to, double heading_deg, double seconds) {
+    const core::NavPoint from = rig->position;
+    const int n = static_cast<int>(seconds / core::ns_to_sec(kTickNs));
+    for (int i = 1; i <= n; ++i) {
+      const double t = static_cast<double>(i) / n;
+      rig->position = {from.north_m + t * (to.north_m - from.north_m),
+                       from.east_m + t * (to.east_m - from.east_m)};
+      rig->heading_deg = heading_deg;
+      rig->tick();
+    }
+  };
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  sail({12.0, -3.0}, 0.0, 8.0);
+  sail({24.0, -3.0}, 0.0, 12.0);
+  EXPECT_TRUE(rig->logged("missed gate 1: crossed 1.5 m outside its port buoy")) << rig->log_text();
+  EXPECT_EQ(rig->path(), "obstacle_course/turn_back");
+  EXPECT_FALSE(rig->out.status.finished);
+  ASSERT_TRUE(rig->out.viz.has_goal);
+  EXPECT_LT(rig->out.viz.goal.north_m, 20.0);  // the way back is to before the gate
+  EXPECT_EQ(rig->out.status.waypoints_arrived, 0U);
+  // Back round before the gate, then through it between the buoys: now it counts.
+  sail({24.0, -5.0}, 180.0, 3.0);
+  sail({15.0, -5.0}, 180.0, 8.0);
+  sail({15.0, 0.0}, 90.0, 4.0);
+  EXPECT_FALSE(rig->out.status.finished);
+  sail({23.0, 0.0}, 0.0, 8.0);
+  EXPECT_TRUE(rig->out.status.finished) << rig->log_text();
+  EXPECT_TRUE(rig->logged("passed gate 1 between its buoys")) << rig->log_text();
+}
+
+TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrivesAtTheGoal) {
+  config::Configuration c = gate_config();
+  const core::LocalFrame f(c.mission.origin);
+  // The field boundary closes the goal off (it lies outside): no path.
+  for (const core::NavPoint p : {core::NavPoint{-5.0, -5.0}, core::NavPoint{-5.0, 5.0},
+                                 core::NavPoint{8.0, 5.0}, core::NavPoint{8.0, -5.0}}) {
+    c.mission.planning.boundary.push_back(f.to_geo(p));
+  }
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/no_path") << rig->log_text();
+  EXPECT_TRUE(rig->logged("no path to the goal")) << rig->log_text();
+  bool looked = false;
+  bool backed_off = false;
+  double thrust = rig->thrust_frac();
+  for (int i = 0; i < 1000; ++i) {
+    rig->tick();
+    ASSERT_FALSE(rig->out.status.finished);
+    backed_off = backed_off || rig->out.command.pulse_us[1] < 1500;  // astern
+    // Driven (thrust held or rising, not ramping down to the stop): never at the goal.
+    const double now_thrust = rig->thrust_frac();
+    if (now_thrust > 0.0 && now_thrust >= thrust) {
+      const double to_goal_deg = core::bearing_deg(rig->position, {20.0, 0.0});
+      EXPECT_GT(std::abs(core::angle_diff_deg(rig->out.viz.desired_heading_deg, to_goal_deg)), 45.0)
+          << core::ns_to_sec(rig->now) << " s\n"
+          << rig->log_text();
+      looked = true;
+    }
+    thrust = now_thrust;
+  }
+  EXPECT_TRUE(looked);
+  EXPECT_TRUE(backed_off);
+  EXPECT_EQ(rig->path(), "obstacle_course/no_path");
+  EXPECT_LT(rig->position.north_m, 8.0);
+}
+
+TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({25.0, 0.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->move = true;
+  // A U of closely spaced posts, open toward the boat, across the straight line to the goal.
+  for (double e = -3.0; e <= 3.0; e += 0.25) rig->world_buoys.push_back({{12.0, e}, 0.15});
+  for (double n = 7.0; n < 12.0; n += 0.25) {
+    rig->world_buoys.push_back({{n, -3.0}, 0.15});
+    rig->world_buoys.push_back({{n, 3.0}, 0.15});
+  }
+  bool entered = false;
+  const bool done = rig->run_until(
+      [&] {
+        const core::NavPoint p = rig->position;
+        entered = entered || (p.north_m > 8.0 && p.north_m < 12.0 && std::abs(p.east_m) < 2.8);
+        return rig->out.status.finished;
+      },
+      110.0);
+  EXPECT_TRUE(done) << rig->log_text();
+  EXPECT_FALSE(entered);
 }
 
 config::Configuration course1_config() {

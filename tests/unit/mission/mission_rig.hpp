@@ -134,8 +134,10 @@ class Rig {
   /// Publishes the live sensors (boat pose from the unicycle) and steps once.
   void tick() {
     if (live_imu) imu(heading_deg + heading_noise());
-    if (live_gnss && (tick_count_ % 10 == 0)) gnss(position, gnss_usable);  // 5 Hz
-    if (live_lidar && (tick_count_ % 5 == 0)) {                             // 10 Hz
+    if (live_gnss && (tick_count_ % 10 == 0)) {  // 5 Hz
+      gnss({position.north_m + gnss_bias.north_m, position.east_m + gnss_bias.east_m}, gnss_usable);
+    }
+    if (live_lidar && (tick_count_ % 5 == 0)) {  // 10 Hz
       if (!world_buoys.empty()) scan_world();
       lidar();
     }
@@ -254,6 +256,7 @@ class Rig {
   bool live_gnss = true;
   bool gnss_usable = true;
   std::optional<core::NavPoint> gnss_velocity;  // reported with each fix when set
+  core::NavPoint gnss_bias;                     // added to every live fix (receiver error)
   bool live_lidar = true;
   bool live_arduino = true;
   bool move = false;

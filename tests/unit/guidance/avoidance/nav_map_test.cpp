@@ -1,0 +1,215 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "coxswain/guidance/nav_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "coxswain/core/angles.hpp"
+
+namespace coxswain::guidance {
+namespace {
+
+using core::NavPoint;
+
+const perception::HullBox kHull{-2.2, 0.1, -0.65, 0.65};
+
+NavMapParams small_map() {
+  NavMapParams p;
+  p.size_north_m = 60.0;
+  p.size_east_m = 40.0;
+  return p;
+}
+
+// A scan (body frame at `pose`) of straight navigation-frame walls, one beam per half degree:
+// each beam ends on the nearest wall it meets, or returns nothing.
+msg::LidarScan scan_of(const core::NavPose& pose,
+                       const std::vector<std::pair<NavPoint, NavPoint>>& walls) {
+  msg::LidarScan scan;
+  scan.max_range_m = 25.0F;
+  for (int i = 0; i < 720; ++i) {
+    const double b = -180.0 + 0.5 * i;
+    const double a = core::deg_to_rad(pose.heading_deg + b);
+    const double dn = std::cos(a);
+    const double de = std::sin(a);
+    double best = 1e9;
+    for (const auto& [p, q] : walls) {
+      // Ray (pose + t d) against segment p + s (q - p).
+      const double wn = q.north_m - p.north_m;
+      const double we = q.east_m - p.east_m;
+      const double den = dn * we - de * wn;
+      if (std::abs(den) < 1e-12) continue;
+      const double rn = p.north_m - pose.position.north_m;
+      const double re = p.east_m - pose.position.east_m;
+      const double t = (rn * we - re * wn) / den;
+      const double s = (rn * de - re * dn) / den;
+      if (t > 0.0 && s >= 0.0 && s <= 1.0) best = std::min(best, t);
+    }
+    if (best < 25.0) (void)scan.push({static_cast<float>(b), static_cast<float>(best), 200, 0});
+  }
+  return scan;
+}
+
+bool occupied_at(const NavMap& m, NavPoint p) {
+  const auto c = m.cell_of(p);
+  return c && m.occupied(m.index(*c));
+}
+
+TEST(NavMap, ABeamMarksWhereItEndsAndClearsTheCellsBeforeIt) {
+  NavMap m(small_map(), {}, {});
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  const auto wall = scan_of(pose, {{{5.0, -1.0}, {5.0, 1.0}}});
+  m.add_scan(wall, pose, kHull);
+  EXPECT_TRUE(occupied_at(m, {5.05, 0.0}));
+  const auto c = m.cell_of({2.5, 0.0});
+  ASSERT_TRUE(c);
+  EXPECT_LT(m.log_odds(m.index(*c)), 0.0F);  // seen through: evidence of free water
+  const auto behind = m.cell_of({7.0, 0.0});
+  ASSERT_TRUE(behind);
+  EXPECT_EQ(m.log_odds(m.index(*behind)), 0.0F);  // never seen: unknown
+}
+
+TEST(NavMap, AnObstacleThatMovedAwayIsClearedByTheBeamsThatNowPassThroughIt) {
+  NavMap m(small_map(), {}, {});
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  for (int i = 0; i < 3; ++i) m.add_scan(scan_of(pose, {{{5.0, -1.0}, {5.0, 1.0}}}), pose, kHull);
+  ASSERT_TRUE(occupied_at(m, {5.05, 0.0}));
+  // The same wall now 3 m farther: the beams pass through the old cells.
+  int scans = 0;
+  while (occupied_at(m, {5.05, 0.0}) && scans < 20) {
+    m.add_scan(scan_of(pose, {{{8.0, -1.0}, {8.0, 1.0}}}), pose, kHull);
+    ++scans;
+  }
+  EXPECT_FALSE(occupied_at(m, {5.05, 0.0}));
+  EXPECT_LE(scans, 6);  // cleared by beams within a few scans, not by slow decay
+  EXPECT_TRUE(occupied_at(m, {8.05, 0.0}));
+}
+
+TEST(NavMap, ReturnsInsideTheHullBoxAreIgnored) {
+  NavMap m(small_map(), {}, {});
+  msg::LidarScan scan;
+  (void)scan.push({180.0F, 1.0F, 200, 0});  // astern, inside the hull box
+  m.add_scan(scan, {{0.0, 0.0}, 0.0}, kHull);
+  EXPECT_TRUE(m.lidar_occupied().empty());
+}
+
+TEST(NavMap, TheKnownLayerHoldsEverythingOutsideTheBoundaryAndInsideANoGoPolygon) {
+  NavMapParams p;
+  p.resolution_m = 0.5;
+  p.margin_m = 3.0;
+  const std::vector<NavPoint> boundary{{-5.0, -10.0}, {-5.0, 10.0}, {35.0, 10.0}, {35.0, -10.0}};
+  const std::vector<std::vector<NavPoint>> no_go{{{10.0, -2.0}, {10.0, 2.0}, {14.0, 0.0}}};
+  NavMap m(p, boundary, no_go);
+  // Sized from the boundary's box plus the margin: 46 m x 26 m at 0.5 m.
+  EXPECT_EQ(m.rows(), 92U);
+  EXPECT_EQ(m.cols(), 52U);
+  EXPECT_DOUBLE_EQ(m.origin().north_m, -8.0);
+  EXPECT_DOUBLE_EQ(m.origin().east_m, -13.0);
+  EXPECT_TRUE(occupied_at(m, {0.0, 11.0}));   // outside the boundary
+  EXPECT_TRUE(occupied_at(m, {36.0, 0.0}));   // outside the boundary
+  EXPECT_FALSE(occupied_at(m, {0.0, 9.0}));   // inside
+  EXPECT_TRUE(occupied_at(m, {11.0, 0.0}));   // inside the no-go triangle
+  EXPECT_FALSE(occupied_at(m, {11.0, 3.0}));  // beside it
+  EXPECT_TRUE(m.lidar_occupied().empty());    // the known layer is not lidar evidence
+  m.clear_evidence();
+  EXPECT_TRUE(occupied_at(m, {11.0, 0.0}));  // and survives forgetting it
+}
+
+TEST(NavMap, RejectsInvalidParametersAndAreasTooLargeForTheCells) {
+  NavMapParams p = small_map();
+  p.resolution_m = 0.01;
+  EXPECT_THROW(NavMap(p, {}, {}), std::invalid_argument);
+  p = small_map();
+  p.size_north_m = 1000.0;
+  p.size_east_m = 1000.0;
+  EXPECT_THROW(NavMap(p, {}, {}), std::invalid_argument);
+  p = small_map();
+  p.occupied_log_odds = 10.0F;
+  EXPECT_THROW(NavMap(p, {}, {}), std::invalid_argument);
+}
+
+// A dead end open toward the boat: the goal lies straight on behind its back wall.
+std::vector<std::pair<NavPoint, NavPoint>> u_walls() {
+  return {{{10.0, -3.0}, {10.0, 3.0}}, {{5.0, -3.0}, {10.0, -3.0}}, {{5.0, 3.0}, {10.0, 3.0}}};
+}
+
+bool inside_u(NavPoint p) {
+  return p.north_m > 4.5 && p.north_m < 10.5 && std::abs(p.east_m) < 3.5;
+}
+
+TEST(MapPlanner, PlansRoundADeadEndOpenTowardTheBoatAndItsSubGoalIsNotInside) {
+  NavMap m(small_map(), {}, {});
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  m.add_scan(scan_of(pose, u_walls()), pose, kHull);
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  const NavPoint goal{20.0, 0.0};
+  ASSERT_EQ(planner.plan(m, pose.position, goal), PlanStatus::kOk);
+  const auto& path = planner.path();
+  ASSERT_GE(path.size(), 3U);
+  bool round = false;
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const NavPoint a = path[i - 1];
+    const NavPoint b = path[i];
+    for (int k = 0; k <= 50; ++k) {
+      const double t = k / 50.0;
+      const NavPoint q{a.north_m + t * (b.north_m - a.north_m),
+                       a.east_m + t * (b.east_m - a.east_m)};
+      EXPECT_FALSE(inside_u(q)) << q.north_m << ", " << q.east_m;
+      const auto c = planner.view().cell_of(q);
+      ASSERT_TRUE(c);
+      EXPECT_NE(planner.view().at(*c), CellState::kOccupied);
+    }
+    round = round || std::abs(b.east_m) > 3.5;
+  }
+  EXPECT_TRUE(round);
+  const auto sg = planner.subgoal(pose.position);
+  ASSERT_TRUE(sg);
+  EXPECT_FALSE(inside_u(*sg));
+  EXPECT_NEAR(core::distance_m(pose.position, *sg), MapPlannerParams{}.lookahead_m, 0.3);
+  // The straight line to the goal would have been into the U.
+  EXPECT_TRUE(inside_u({7.0, 0.0}));
+}
+
+TEST(MapPlanner, ABlockedGoalMovesToTheNearestFreeCellAndAnEnclosedOneHasNoPath) {
+  NavMap m(small_map(), {}, {});
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  m.add_scan(scan_of(pose, {{{6.0, -2.0}, {6.0, 2.0}}}), pose, kHull);
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  EXPECT_EQ(planner.plan(m, pose.position, {6.1, 0.0}), PlanStatus::kOk);  // on the wall
+  // A closed box round the boat.
+  NavMap boxed(small_map(), {}, {});
+  boxed.add_scan(scan_of(pose, {{{4.0, -4.0}, {4.0, 4.0}},
+                                {{-4.0, -4.0}, {-4.0, 4.0}},
+                                {{-4.0, -4.0}, {4.0, -4.0}},
+                                {{-4.0, 4.0}, {4.0, 4.0}}}),
+                 pose, kHull);
+  MapPlanner p2(boxed, MapPlannerParams{}, 0.45);
+  EXPECT_EQ(p2.plan(boxed, pose.position, {20.0, 0.0}), PlanStatus::kNoPath);
+  EXPECT_FALSE(p2.subgoal(pose.position).has_value());
+}
+
+TEST(MapPlanner, TheExpansionBudgetBoundsOnePlan) {
+  NavMap m(small_map(), {}, {});
+  MapPlannerParams p;
+  p.max_expansions = 10;
+  MapPlanner planner(m, p, 0.45);
+  EXPECT_EQ(planner.plan(m, {0.0, 0.0}, {20.0, 10.0}), PlanStatus::kBudget);
+  EXPECT_LE(planner.expanded(), 10U);
+}
+
+TEST(MapPlanner, KnownNoGoAreasAreInflatedAndPlannedAround) {
+  NavMapParams mp = small_map();
+  const std::vector<std::vector<NavPoint>> no_go{
+      {{8.0, -6.0}, {8.0, 6.0}, {12.0, 6.0}, {12.0, -6.0}}};
+  NavMap m(mp, {}, no_go);
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  ASSERT_EQ(planner.plan(m, {0.0, 0.0}, {20.0, 0.0}), PlanStatus::kOk);
+  double widest = 0.0;
+  for (const NavPoint& q : planner.path()) widest = std::max(widest, std::abs(q.east_m));
+  EXPECT_GT(widest, 6.5);  // round the polygon's end with the hull's clearance
+}
+
+}  // namespace
+}  // namespace coxswain::guidance
