@@ -4,10 +4,10 @@
 // lookup table on the quantised BGR value; then a cleaned binary mask per colour, cut to the rows
 // and columns where that colour occurs. Shared by the marker and buoy detectors.
 //
-// Before labelling, the dominant colour of a band of rows at the bottom of the frame (water) and
-// at the top (sky) is fitted as a Gaussian in BGR; the table entries within
-// BackgroundParams::reject_sigma of either lose every colour bit for this frame, so water that
-// falls inside a colour's HSV box (blue-green sea in the blue box) is not that colour.
+// Before labelling, the dominant colour of each horizontal strip of the frame (sky, far and near
+// water) is fitted as a Gaussian in BGR; the table entries within BackgroundParams::reject_sigma
+// of any of them lose every colour bit for this frame, so water that falls inside a colour's HSV
+// box (blue-green sea in the blue box) is not that colour.
 //
 // Buffers are members, reused frame to frame (allocated when the image size changes). Not
 // thread-safe: one instance per detector. Copyable.
@@ -66,8 +66,11 @@ class ColourMasker {
 
   /// Labels of the current frame (CV_16UC1, bit i = params.colours[i]).
   [[nodiscard]] const cv::Mat& labels() const { return labels_; }
-  /// The background models of the current frame: [0] water (bottom band), [1] sky (top band).
-  [[nodiscard]] const std::array<ColourGaussian, 2>& background() const { return background_; }
+  /// The background models of the current frame, one per strip, top to bottom (invalid: the
+  /// strip has no dominant colour, or fewer strips are configured).
+  [[nodiscard]] const std::array<ColourGaussian, BackgroundParams::kMaxStrips>& background() const {
+    return background_;
+  }
 
  private:
   void reject(const ColourGaussian& g);
@@ -80,7 +83,7 @@ class ColourMasker {
   cv::Mat close_kernel_;
   std::vector<std::uint16_t> table_;        // from the HSV boxes
   std::vector<std::uint16_t> frame_table_;  // this frame's copy, background rejected
-  std::array<ColourGaussian, 2> background_{};
+  std::array<ColourGaussian, BackgroundParams::kMaxStrips> background_{};
   cv::Mat blurred_;
   cv::Mat labels_;
   std::vector<std::uint16_t> row_bits_;

@@ -52,17 +52,18 @@ struct ShapeParams {
   double island_min_hole_fraction = 0.15;
 };
 
-/// The per-frame background model: the dominant colour of a band of rows (water at the bottom,
-/// sky at the top) is fitted as a Gaussian in BGR and every colour mask rejects pixels within
-/// `reject_sigma` of it. Blue-green sea falls inside the blue box and green-grey sea near the
-/// green one; a placard floating in it must not become an island in a frame-wide blob.
+/// The per-frame background model: the frame is cut into horizontal strips and the dominant
+/// colour of each (sky, far water, near water: they change with the row) is fitted as a
+/// Gaussian in BGR; every colour mask rejects pixels within `reject_sigma` of any of them.
+/// Blue-green sea falls inside the blue box and a low sun's sky inside the orange one; a marker
+/// is a minority of any strip, so it never becomes the background.
 struct BackgroundParams {
+  static constexpr int kMaxStrips = 16;
   bool enabled = true;
-  double water_band_top_fraction = 0.65;   // rows below this fraction of the height sample water
-  double sky_band_bottom_fraction = 0.12;  // rows above this fraction sample the sky; 0 = no sky
-  int sample_step_px = 4;                  // sampling grid pitch in both directions
-  double min_share = 0.40;    // the dominant colour must hold this share of a band's samples
-  double reject_sigma = 3.0;  // Mahalanobis radius rejected around the background colour
+  int strips = 8;             // horizontal strips, each with its own model
+  int sample_step_px = 4;     // sampling grid pitch in both directions
+  double min_share = 0.50;    // the dominant colour must hold this share of a strip's samples
+  double reject_sigma = 4.5;  // Mahalanobis radius rejected around the background colour
   double min_sigma = 5.0;     // grey levels: floor of each axis' spread (flat, noiseless water)
   double max_sigma = 40.0;    // grey levels: cap, so a mottled band cannot swallow the markers
   int max_saturation = 190;   // 0..255: a more saturated dominant colour is a marker filling the

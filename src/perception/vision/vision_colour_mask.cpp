@@ -139,17 +139,40 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
   }
   ColourGaussian rough;
   if (!to_gaussian(first, p, rough)) return g;
-  // Refit on the samples within 3 sigma of the first estimate: drops the neighbouring bins'
-  // share of whatever else is in the band (a buoy, a hull).
+  // Refit twice on the samples within 3 sigma of the last estimate: drops the neighbouring
+  // bins' share of whatever else is in the strip (a buoy, a hull) and follows a gradient (sky).
   Moments3 second;
+  for (int pass = 0; pass < 2; ++pass) {
+    second = Moments3{};
+    for (int y = row_begin + step / 2; y < row_end; y += step) {
+      const unsigned char* row = bgr.ptr<unsigned char>(y);
+      for (int x = step / 2; x < bgr.cols; x += step) {
+        const unsigned char* px = row + 3 * x;
+        if (rough.distance2(px[0], px[1], px[2]) <= 9.0) second.add(px);
+      }
+    }
+    if (!to_gaussian(second, p, rough)) return ColourGaussian{};
+  }
+  g = rough;
+  // Water and sky span the frame: the colour must hold a fair share of every eighth of the
+  // strip's width. A marker, however large, leaves some eighth (the placard's margin, the water
+  // beside it) without it.
+  constexpr int kBuckets = 8;
+  std::array<int, kBuckets> members{};
+  std::array<int, kBuckets> seen{};
   for (int y = row_begin + step / 2; y < row_end; y += step) {
     const unsigned char* row = bgr.ptr<unsigned char>(y);
     for (int x = step / 2; x < bgr.cols; x += step) {
       const unsigned char* px = row + 3 * x;
-      if (rough.distance2(px[0], px[1], px[2]) <= 9.0) second.add(px);
+      const auto k = static_cast<std::size_t>(x * kBuckets / bgr.cols);
+      ++seen[k];
+      if (g.distance2(px[0], px[1], px[2]) <= 9.0) ++members[k];
     }
   }
-  if (!to_gaussian(second, p, g)) return ColourGaussian{};
+  bool spans = true;
+  for (std::size_t k = 0; k < kBuckets; ++k) {
+    spans = spans && (seen[k] == 0 || members[k] * 5 >= seen[k]);
+  }
   g.share = second.n / static_cast<double>(total);
   int h = 0;
   int s = 0;
@@ -157,7 +180,7 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
   bgr_to_hsv(static_cast<int>(std::lround(g.mean_bgr[0])),
              static_cast<int>(std::lround(g.mean_bgr[1])),
              static_cast<int>(std::lround(g.mean_bgr[2])), h, s, v);
-  g.valid = g.share >= p.min_share && s <= p.max_saturation;
+  g.valid = spans && g.share >= p.min_share && s <= p.max_saturation;
   return g;
 }
 
@@ -233,13 +256,30 @@ bool ColourMasker::set_frame(const cv::Mat& bgr) {
   background_ = {};
   if (background_params_.enabled) {
     const BackgroundParams& p = background_params_;
-    background_[0] = fit_dominant_colour(
-        *src, static_cast<int>(std::lround(p.water_band_top_fraction * height)), height, p);
-    if (p.sky_band_bottom_fraction > 0.0) {
-      background_[1] = fit_dominant_colour(
-          *src, 0, static_cast<int>(std::lround(p.sky_band_bottom_fraction * height)), p);
+    const int strips = std::clamp(p.strips, 1, BackgroundParams::kMaxStrips);
+    for (int k = 0; k < strips; ++k) {
+      background_[static_cast<std::size_t>(k)] =
+          fit_dominant_colour(*src, k * height / strips, (k + 1) * height / strips, p);
     }
-    for (const ColourGaussian& g : background_) {
+    // Water reaches the bottom of the frame and sky the top: a strip's model counts only when a
+    // chain of like strips joins it to the bottom or top strip. A large marker in the middle of
+    // the view (a placard up close) is cut off from both by what surrounds it.
+    const auto like = [this](std::size_t a, std::size_t b) {
+      const ColourGaussian& ga = background_[a];
+      const ColourGaussian& gb = background_[b];
+      return ga.valid && gb.valid &&
+             ga.distance2(gb.mean_bgr[0], gb.mean_bgr[1], gb.mean_bgr[2]) <= 36.0;
+    };
+    const auto n = static_cast<std::size_t>(strips);
+    std::array<bool, BackgroundParams::kMaxStrips> from_top{};
+    std::array<bool, BackgroundParams::kMaxStrips> from_bottom{};
+    from_top[0] = background_[0].valid;
+    for (std::size_t k = 1; k < n; ++k) from_top[k] = from_top[k - 1] && like(k - 1, k);
+    from_bottom[n - 1] = background_[n - 1].valid;
+    for (std::size_t k = n - 1; k-- > 0;) from_bottom[k] = from_bottom[k + 1] && like(k + 1, k);
+    for (std::size_t k = 0; k < n; ++k) {
+      ColourGaussian& g = background_[k];
+      g.valid = g.valid && (from_top[k] || from_bottom[k]);
       if (g.valid) reject(g);
     }
   }

@@ -85,11 +85,8 @@ std::string VisionParams::validate() const {
     return "island_min_hole_fraction in [0,1]";
   }
   const BackgroundParams& b = background;
-  if (!(b.water_band_top_fraction >= 0.0 && b.water_band_top_fraction <= 1.0)) {
-    return "background.water_band_top_fraction in [0,1]";
-  }
-  if (!(b.sky_band_bottom_fraction >= 0.0 && b.sky_band_bottom_fraction <= 1.0)) {
-    return "background.sky_band_bottom_fraction in [0,1]";
+  if (b.strips < 1 || b.strips > BackgroundParams::kMaxStrips) {
+    return "background.strips in 1..16";
   }
   if (b.sample_step_px < 1 || b.sample_step_px > 64) return "background.sample_step_px in 1..64";
   if (!(b.min_share > 0.0 && b.min_share <= 1.0)) return "background.min_share in (0,1]";
