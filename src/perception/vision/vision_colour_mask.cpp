@@ -154,9 +154,8 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
     if (!to_gaussian(second, p, rough)) return ColourGaussian{};
   }
   g = rough;
-  // Water and sky span the frame: the colour must hold a fair share of every eighth of the
-  // strip's width. A marker, however large, leaves some eighth (the placard's margin, the water
-  // beside it) without it.
+  // Water and sky span the frame: the colour must hold a fifth of nearly every eighth of the
+  // strip's width.
   constexpr int kBuckets = 8;
   std::array<int, kBuckets> members{};
   std::array<int, kBuckets> seen{};
@@ -169,10 +168,12 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
       if (g.distance2(px[0], px[1], px[2]) <= 9.0) ++members[k];
     }
   }
-  bool spans = true;
+  // One eighth may be lacking: a placard or a hull in front of the water.
+  int lacking = 0;
   for (std::size_t k = 0; k < kBuckets; ++k) {
-    spans = spans && (seen[k] == 0 || members[k] * 5 >= seen[k]);
+    lacking += seen[k] > 0 && members[k] * 5 < seen[k] ? 1 : 0;
   }
+  const bool spans = lacking <= 1;
   g.share = second.n / static_cast<double>(total);
   int h = 0;
   int s = 0;
@@ -267,8 +268,10 @@ bool ColourMasker::set_frame(const cv::Mat& bgr) {
     const auto like = [this](std::size_t a, std::size_t b) {
       const ColourGaussian& ga = background_[a];
       const ColourGaussian& gb = background_[b];
+      // Within 6 sigma either way: a sky's gradient changes fast towards the horizon.
       return ga.valid && gb.valid &&
-             ga.distance2(gb.mean_bgr[0], gb.mean_bgr[1], gb.mean_bgr[2]) <= 36.0;
+             std::min(ga.distance2(gb.mean_bgr[0], gb.mean_bgr[1], gb.mean_bgr[2]),
+                      gb.distance2(ga.mean_bgr[0], ga.mean_bgr[1], ga.mean_bgr[2])) <= 36.0;
     };
     const auto n = static_cast<std::size_t>(strips);
     std::array<bool, BackgroundParams::kMaxStrips> from_top{};
