@@ -25,6 +25,7 @@
 #include "coxswain/replay/command.hpp"
 #include "coxswain/report/report.hpp"
 #include "coxswain/version.hpp"
+#include "vision_commands.hpp"
 
 namespace {
 
@@ -201,9 +202,12 @@ int main(int argc, char** argv) {
   std::string report_out;
   report->add_option("file", report_file, "The recording (RUN/run.mcap)")->required();
   report->add_option("-o,--output", report_out, "The HTML file (default: the recording's, .html)");
+  int vision_exit = 0;
+  const CLI::App* vision = coxswain::app::add_vision_commands(app, vision_exit);
   app.require_subcommand(0, 1);
 
   CLI11_PARSE(app, argc, argv);
+  if (vision->parsed()) return vision_exit;
 
   if (check->parsed()) return check_config(check_files);
   if (config_doc->parsed()) {

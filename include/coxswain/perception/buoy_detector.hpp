@@ -25,7 +25,8 @@ class BuoyDetector {
   /// Scans one colour's ready-made mask (CV_8UC1 of a `width` x `height` frame, e.g. from a
   /// ColourMasker shared with the marker detector) and adds its buoys to `out` without clearing
   /// it. For CameraPipeline, which builds each mask once for both detectors.
-  void scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+  /// `offset` places the mask's top-left pixel in the frame (ColourMasker::MaskView).
+  void scan_mask(msg::Colour colour, const cv::Mat& mask, cv::Point offset, int width, int height,
                  msg::CameraDetections& out);
 
   /// The largest buoy of `colour`, if any, from a filled detection list.
@@ -36,6 +37,7 @@ class BuoyDetector {
   VisionParams params_;
   ColourMasker masker_;
   std::vector<std::vector<cv::Point>> contours_;
+  std::vector<cv::Vec4i> hierarchy_;
   std::vector<cv::Point> hull_;
 };
 

@@ -38,7 +38,8 @@ class MarkerDetector {
   /// ColourMasker shared with the buoy detector) and adds its markers to `out` without clearing
   /// it. Statistics accumulate until reset_stats(). For CameraPipeline, which builds each mask
   /// once for both detectors.
-  void scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
+  /// `offset` places the mask's top-left pixel in the frame (ColourMasker::MaskView).
+  void scan_mask(msg::Colour colour, const cv::Mat& mask, cv::Point offset, int width, int height,
                  msg::CameraDetections& out);
   void reset_stats() { stats_ = {}; }
 
@@ -46,6 +47,10 @@ class MarkerDetector {
   [[nodiscard]] const VisionParams& params() const { return params_; }
 
  private:
+  /// Whether contour `island` (inside a hole of the blob whose outer contour is `root`) is a
+  /// marker on a placard rather than a glyph artefact.
+  [[nodiscard]] bool placard_island(std::size_t island, int root, int width, int height) const;
+
   VisionParams params_;
   ColourMasker masker_;
   ShapeAnalyzer analyzer_;

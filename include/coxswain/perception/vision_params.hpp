@@ -47,6 +47,27 @@ struct ShapeParams {
   double circle_min_circularity = 0.82;  // 4 pi A / P^2 on the hull; semicircle 0.75, square 0.785
   double circle_max_extent = 0.85;       // a circle or ellipse fills pi/4 of its rectangle
   double min_fill_ratio = 0.60;          // mask pixels / outer-contour area: rejects outline rings
+  // A marker inside a hole of a larger blob (a placard in water of the marker's colour) must fill
+  // this share of the hole: glyphs on the mission's placards fill 0.22 (triangle) to 0.51.
+  double island_min_hole_fraction = 0.15;
+};
+
+/// The per-frame background model: the frame is cut into horizontal strips and the dominant
+/// colour of each (sky, far water, near water: they change with the row) is fitted as a
+/// Gaussian in BGR; every colour mask rejects pixels within `reject_sigma` of any of them.
+/// Blue-green sea falls inside the blue box and a low sun's sky inside the orange one; a marker
+/// is a minority of any strip, so it never becomes the background.
+struct BackgroundParams {
+  static constexpr int kMaxStrips = 16;
+  bool enabled = true;
+  int strips = 8;             // horizontal strips, each with its own model
+  int sample_step_px = 4;     // sampling grid pitch in both directions
+  double min_share = 0.50;    // the dominant colour must hold this share of a strip's samples
+  double reject_sigma = 4.5;  // Mahalanobis radius rejected around the background colour
+  double min_sigma = 5.0;     // grey levels: floor of each axis' spread (flat, noiseless water)
+  double max_sigma = 40.0;    // grey levels: cap, so a mottled band cannot swallow the markers
+  int max_saturation = 190;   // 0..255: a more saturated dominant colour is a marker filling the
+                              // view (a placard up close), never water or sky
 };
 
 /// Every tunable of the camera detectors. Units in names; defaults suit the marker test images
@@ -68,6 +89,7 @@ struct VisionParams {
   double hfov_deg = 80.0;         // camera horizontal field of view
   double mount_yaw_deg = 0.0;     // camera optical axis in the body frame, + starboard
   ShapeParams shape;
+  BackgroundParams background;
 
   /// Defaults: red (wrapping), orange, yellow, green, blue, purple, black (markers and buoys as
   /// docs/missions.md uses them). White is not searched: it is the placard background.

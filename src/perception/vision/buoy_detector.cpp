@@ -10,6 +10,7 @@ namespace coxswain::perception {
 
 BuoyDetector::BuoyDetector(const VisionParams& params) : params_(params), masker_(params) {
   contours_.reserve(256);
+  hierarchy_.reserve(256);
 }
 
 bool BuoyDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::CameraDetections& out) {
@@ -28,18 +29,23 @@ bool BuoyDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::Camera
   for (std::size_t c = 0; c < params_.colour_count; ++c) {
     const ColourRange& range = params_.colours[c];
     if (!range.buoys) continue;
-    scan_mask(range.colour, masker_.mask(range.hsv), width, height, out);
+    const ColourMasker::MaskView view = masker_.mask(c);
+    if (!view.mask.empty()) scan_mask(range.colour, view.mask, view.offset, width, height, out);
   }
   return true;
 }
 
-void BuoyDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
-                             msg::CameraDetections& out) {
+void BuoyDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, cv::Point offset, int width,
+                             int height, msg::CameraDetections& out) {
   const double min_area_px =
       params_.buoy_min_area_fraction * static_cast<double>(width) * static_cast<double>(height);
   const int margin = params_.edge_margin_px;
-  cv::findContours(mask, contours_, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
-  for (const std::vector<cv::Point>& contour : contours_) {
+  // Outer boundaries of every component, islands in holes included (a buoy in front of a larger
+  // blob of its colour).
+  cv::findContours(mask, contours_, hierarchy_, cv::RETR_CCOMP, cv::CHAIN_APPROX_SIMPLE, offset);
+  for (std::size_t i = 0; i < contours_.size(); ++i) {
+    if (hierarchy_[i][3] >= 0) continue;
+    const std::vector<cv::Point>& contour = contours_[i];
     const double area_px = cv::contourArea(contour);
     if (area_px < min_area_px) continue;
     const cv::Rect box = cv::boundingRect(contour);

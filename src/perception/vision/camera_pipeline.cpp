@@ -40,9 +40,10 @@ bool CameraPipeline::process(const cv::Mat& bgr, core::TimeNs stamp_ns,
   for (std::size_t c = 0; c < params_.colour_count; ++c) {
     const ColourRange& range = params_.colours[c];
     if (!range.markers && !range.buoys) continue;
-    const cv::Mat& mask = masker_.mask(range.hsv);
-    if (range.markers) markers_.scan_mask(range.colour, mask, width, height, out);
-    if (range.buoys) buoys_.scan_mask(range.colour, mask, width, height, out);
+    const ColourMasker::MaskView view = masker_.mask(c);
+    if (view.mask.empty()) continue;
+    if (range.markers) markers_.scan_mask(range.colour, view.mask, view.offset, width, height, out);
+    if (range.buoys) buoys_.scan_mask(range.colour, view.mask, view.offset, width, height, out);
   }
   stats_.markers = markers_.last_stats();
   return true;

@@ -66,21 +66,47 @@ bool MarkerDetector::detect(const cv::Mat& bgr, core::TimeNs stamp_ns, msg::Came
   for (std::size_t c = 0; c < params_.colour_count; ++c) {
     const ColourRange& range = params_.colours[c];
     if (!range.markers) continue;
-    scan_mask(range.colour, masker_.mask(range.hsv), bgr.cols, bgr.rows, out);
+    const ColourMasker::MaskView view = masker_.mask(c);
+    if (!view.mask.empty())
+      scan_mask(range.colour, view.mask, view.offset, bgr.cols, bgr.rows, out);
   }
   return true;
 }
 
-void MarkerDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, int width, int height,
-                               msg::CameraDetections& out) {
+bool MarkerDetector::placard_island(std::size_t island, int root, int width, int height) const {
+  // The blob around reaches the frame border, as water does ...
+  if (!touches_edge(cv::boundingRect(contours_[static_cast<std::size_t>(root)]), width, height,
+                    params_.edge_margin_px)) {
+    return false;
+  }
+  // ... and the hole (the placard) holds this one island, filling a fair part of it (a placard
+  // carries one glyph; a letter's bowls come in twos or are small).
+  const int hole = hierarchy_[island][3];
+  if (hierarchy_[island][0] >= 0 || hierarchy_[island][1] >= 0) return false;
+  const double hole_px = cv::contourArea(contours_[static_cast<std::size_t>(hole)]);
+  return hole_px > 0.0 &&
+         cv::contourArea(contours_[island]) >= params_.shape.island_min_hole_fraction * hole_px;
+}
+
+void MarkerDetector::scan_mask(msg::Colour colour, const cv::Mat& mask, cv::Point offset, int width,
+                               int height, msg::CameraDetections& out) {
   // RETR_TREE gives each outer contour its holes, so the filled area (and with it the fill
-  // ratio that tells a solid shape from an outline ring) is exact. Islands inside a hole (the
-  // bowls of a letter B in a blue disc) are skipped: they are glyph artefacts, not markers.
-  cv::findContours(mask, contours_, hierarchy_, cv::RETR_TREE, cv::CHAIN_APPROX_SIMPLE);
+  // ratio that tells a solid shape from an outline ring) is exact. An island inside a hole is a
+  // marker when it looks like a glyph on a placard floating in water the background model did
+  // not fully take out (see placard_island); otherwise (the bowls of a letter B in a blue disc)
+  // it is a glyph artefact.
+  cv::findContours(mask, contours_, hierarchy_, cv::RETR_TREE, cv::CHAIN_APPROX_SIMPLE, offset);
   const double frame_area_px = static_cast<double>(width) * static_cast<double>(height);
   const double min_area_px = params_.min_area_fraction * frame_area_px;
   for (std::size_t i = 0; i < contours_.size(); ++i) {
-    if (hierarchy_[i][3] >= 0) continue;  // a hole (handled with its parent) or an island in one
+    int depth = 0;
+    int root = static_cast<int>(i);
+    while (hierarchy_[static_cast<std::size_t>(root)][3] >= 0) {
+      root = hierarchy_[static_cast<std::size_t>(root)][3];
+      ++depth;
+    }
+    if (depth % 2 == 1) continue;  // a hole, handled with its parent
+    if (depth > 0 && !placard_island(i, root, width, height)) continue;
     ++stats_.contours;
     const std::vector<cv::Point>& contour = contours_[i];
     const double outer_area_px = cv::contourArea(contour);

@@ -81,6 +81,22 @@ std::string VisionParams::validate() const {
     return "need triangle_max_extent < circle_max_extent < rectangle_min_extent";
   }
   if (!(s.min_fill_ratio >= 0.0 && s.min_fill_ratio <= 1.0)) return "min_fill_ratio in [0,1]";
+  if (!(s.island_min_hole_fraction >= 0.0 && s.island_min_hole_fraction <= 1.0)) {
+    return "island_min_hole_fraction in [0,1]";
+  }
+  const BackgroundParams& b = background;
+  if (b.strips < 1 || b.strips > BackgroundParams::kMaxStrips) {
+    return "background.strips in 1..16";
+  }
+  if (b.sample_step_px < 1 || b.sample_step_px > 64) return "background.sample_step_px in 1..64";
+  if (!(b.min_share > 0.0 && b.min_share <= 1.0)) return "background.min_share in (0,1]";
+  if (!(b.reject_sigma >= 0.0 && b.reject_sigma <= 10.0)) {
+    return "background.reject_sigma in [0,10]";
+  }
+  if (!(b.min_sigma >= 0.0 && b.min_sigma <= b.max_sigma && b.max_sigma <= 128.0)) {
+    return "need 0 <= background.min_sigma <= background.max_sigma <= 128";
+  }
+  if (b.max_saturation < 0 || b.max_saturation > 255) return "background.max_saturation in 0..255";
   return {};
 }
 

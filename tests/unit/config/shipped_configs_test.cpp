@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/config/yaml_reader.hpp"
 #include "support/testdata.hpp"
 
@@ -32,6 +33,14 @@ TEST(ShippedConfigs, EveryFileValidates) {
   std::size_t checked = 0;
   for (const auto& path : files) {
     ConfigErrors errors;
+    // The camera colour model (kind: vision) has its own loader.
+    if (const auto doc = load_yaml_file(path.string(), errors);
+        doc && doc->IsMap() && (*doc)["kind"] && (*doc)["kind"].as<std::string>() == "vision") {
+      EXPECT_TRUE(load_vision_file(path.string(), errors).has_value()) << path << ":\n"
+                                                                       << errors.format();
+      ++checked;
+      continue;
+    }
     const ConfigKind kind = detect_config_kind(path.string(), errors);
     switch (kind) {
       case ConfigKind::kBoat:

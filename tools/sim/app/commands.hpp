@@ -19,4 +19,7 @@ void add_run_commands(CLI::App& app, int& exit_code);
 /// emulators in real time (sim/devices_mode), scored.
 void add_devices_command(CLI::App& app, int& exit_code);
 
+/// `camera render --venue V --count N --seed S --out DIR`: labelled frames for `vision eval`.
+void add_camera_commands(CLI::App& app, int& exit_code);
+
 }  // namespace coxswain::sim::app

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   coxswain::sim::app::add_course_commands(app, exit_code);
   coxswain::sim::app::add_run_commands(app, exit_code);
   coxswain::sim::app::add_devices_command(app, exit_code);
+  coxswain::sim::app::add_camera_commands(app, exit_code);
   CLI11_PARSE(app, argc, argv);
   return exit_code;
 }

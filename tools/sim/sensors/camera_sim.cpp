@@ -21,6 +21,54 @@ const cv::Scalar kWaterNear{100, 100, 80};
 const cv::Scalar kWall{165, 170, 172};
 const cv::Scalar kPlacardFront{245, 245, 245};
 const cv::Scalar kPlacardBack{150, 150, 150};
+constexpr int kWaveFrames = 4;  // venue backgrounds with different wave phases
+
+/// Sky and water of a venue (before its light is applied) and how rough and glinting the sea is.
+struct VenueLook {
+  cv::Scalar sky_top;
+  cv::Scalar sky_horizon;
+  cv::Scalar water_far;
+  cv::Scalar water_near;
+  double wave_amplitude = 0.0;           // brightness modulation of the crests, fraction
+  int glints = 0;                        // bright specks on the water per frame
+  cv::Scalar light_gain{1.0, 1.0, 1.0};  // per channel (B, G, R), applied to everything
+  double desaturation = 0.0;             // 0 = none, 1 = grey
+};
+
+VenueLook venue_look(Venue v) {
+  switch (v) {
+    case Venue::kHarbour:  // blue sky and blue-green sea, hue about 100, saturation 130-150
+      return {{200, 150, 95},
+              {225, 205, 180},
+              {150, 132, 72},
+              {120, 100, 50},
+              0.12,
+              160,
+              {1.0, 1.0, 1.0},
+              0.0};
+    case Venue::kOvercast:  // grey sky, dull green-grey sea, everything in shade
+      return {{205, 205, 200},
+              {215, 215, 212},
+              {105, 118, 92},
+              {82, 96, 70},
+              0.08,
+              0,
+              {0.72, 0.72, 0.72},
+              0.3};
+    case Venue::kLowSun:  // warm light, orange sky at the horizon, dark sea with a glint path
+      return {{190, 150, 130},
+              {110, 165, 215},
+              {120, 95, 45},
+              {95, 75, 35},
+              0.10,
+              260,
+              {0.8, 0.92, 1.1},
+              0.0};
+    case Venue::kPool:
+      break;
+  }
+  return {kSkyTop, kSkyHorizon, kWaterFar, kWaterNear, 0.0, 0, {1.0, 1.0, 1.0}, 0.0};
+}
 
 /// A marker glyph in the placard plane, (right, up) metres from its centre, width `s`.
 void glyph(msg::Shape shape, double s, std::vector<cv::Point2d>& out) {
@@ -52,6 +100,27 @@ void glyph(msg::Shape shape, double s, std::vector<cv::Point2d>& out) {
   }
 }
 }  // namespace
+
+std::string_view venue_name(Venue v) {
+  switch (v) {
+    case Venue::kPool:
+      return "pool";
+    case Venue::kHarbour:
+      return "harbour";
+    case Venue::kOvercast:
+      return "overcast";
+    case Venue::kLowSun:
+      return "low_sun";
+  }
+  return "pool";
+}
+
+std::optional<Venue> parse_venue(std::string_view name) {
+  for (const Venue v : {Venue::kPool, Venue::kHarbour, Venue::kOvercast, Venue::kLowSun}) {
+    if (name == venue_name(v)) return v;
+  }
+  return std::nullopt;
+}
 
 cv::Scalar paint_bgr(msg::Colour colour) {
   switch (colour) {
@@ -140,6 +209,7 @@ CameraSim::CameraSim(const CameraSimConfig& config, const world::World& world)
   buoys_ = world.buoys;
   items_.reserve(walls_.size() + buoys_.size() + markers_.size());
   build_background();
+  if (config_.venue != Venue::kPool) build_venue_backgrounds();
 
   if (config_.noise_sigma > 0.0) {
     // Signed noise kept as its positive and negative parts (8-bit each), so applying it is two
@@ -188,6 +258,108 @@ void CameraSim::build_background() {
     }
     background_.row(y).setTo(c);
   }
+}
+
+void CameraSim::build_venue_backgrounds() {
+  const VenueLook look = venue_look(config_.venue);
+  const int w = config_.width_px;
+  const int h = config_.height_px;
+  const double cy = 0.5 * h;
+  const double horizon = cy - focal_px_ * sin_tilt_ / cos_tilt_;
+  for (int f = 0; f < kWaveFrames; ++f) {
+    cv::Mat img(h, w, CV_8UC3);
+    const double phase = 2.0 * core::kPi * rng_.uniform(0.0, 1.0);
+    const double cross_phase = 2.0 * core::kPi * rng_.uniform(0.0, 1.0);
+    for (int y = 0; y < h; ++y) {
+      const double row = static_cast<double>(y) + 0.5;
+      auto* px = img.ptr<cv::Vec3b>(y);
+      if (row < horizon) {
+        const double t = std::clamp(row / std::max(1.0, horizon), 0.0, 1.0);
+        const cv::Scalar c = look.sky_top * (1.0 - t) + look.sky_horizon * t;
+        for (int x = 0; x < w; ++x) {
+          px[x] = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                            cv::saturate_cast<uchar>(c[2]));
+        }
+        continue;
+      }
+      const double t = std::clamp((row - horizon) / std::max(1.0, h - horizon), 0.0, 1.0);
+      const cv::Scalar base = look.water_far * (1.0 - t) + look.water_near * t;
+      // Crest lines run parallel to the horizon, 2 m apart on the water: the row's distance
+      // (camera height * focal / rows below the horizon) sets their phase; a slower ripple
+      // across the row breaks them up.
+      const double depth_m = config_.height_m * focal_px_ / std::max(0.5, row - horizon);
+      const double ripple_px = 8.0 + 80.0 * t;
+      for (int x = 0; x < w; ++x) {
+        const double s = std::sin(2.0 * core::kPi * depth_m / 2.0 + phase +
+                                  0.8 * std::sin(2.0 * core::kPi * x / ripple_px + cross_phase));
+        const double k = 1.0 + look.wave_amplitude * s;
+        px[x] = cv::Vec3b(cv::saturate_cast<uchar>(base[0] * k + 6.0 * s),
+                          cv::saturate_cast<uchar>(base[1] * k + 8.0 * s),
+                          cv::saturate_cast<uchar>(base[2] * k + 3.0 * s));
+      }
+    }
+    // Sun glint: small white specks, denser towards the horizon.
+    for (int i = 0; i < look.glints; ++i) {
+      const double u = rng_.uniform(0.0, 1.0);
+      const double y = horizon + (h - horizon) * u * u;
+      const double x = rng_.uniform(0.0, static_cast<double>(w));
+      const int r = 1 + static_cast<int>(rng_.uniform(0.0, 2.0 + 3.0 * u));
+      if (y < 0.0 || y >= h) continue;
+      cv::ellipse(img, cv::Point(static_cast<int>(x), static_cast<int>(y)), cv::Size(r + 1, r), 0.0,
+                  0.0, 360.0, cv::Scalar(250, 250, 248), cv::FILLED, cv::LINE_8);
+    }
+    venue_backgrounds_.push_back(img);
+  }
+}
+
+void CameraSim::apply_light(cv::Mat& img) {
+  const VenueLook look = venue_look(config_.venue);
+  if (look.desaturation > 0.0) {
+    cv::cvtColor(img, grey_, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(grey_, grey3_, cv::COLOR_GRAY2BGR);
+    cv::addWeighted(img, 1.0 - look.desaturation, grey3_, look.desaturation, 0.0, img);
+  }
+  if (look.light_gain != cv::Scalar(1.0, 1.0, 1.0)) cv::multiply(img, look.light_gain, img);
+}
+
+std::optional<cv::Rect2d> CameraSim::marker_box(const core::NavPose& pose,
+                                                const world::Marker& m) const {
+  const View v = view_of(pose);
+  const double face = core::deg_to_rad(m.facing_deg);
+  const double fn = std::cos(face);
+  const double fe = std::sin(face);
+  if ((v.eye.north_m - m.center.north_m) * fn + (v.eye.east_m - m.center.east_m) * fe <= 0.0) {
+    return std::nullopt;
+  }
+  std::vector<cv::Point2d> g;
+  glyph(m.shape, m.size_m, g);
+  double x0 = 1e18;
+  double y0 = 1e18;
+  double x1 = -1e18;
+  double y1 = -1e18;
+  for (const cv::Point2d& p : g) {
+    const Vec3 c =
+        to_camera(v, {m.center.north_m + p.x * fe, m.center.east_m - p.x * fn}, m.height_m + p.y);
+    if (c.fwd < kNearM) return std::nullopt;
+    const double x = 0.5 * config_.width_px + focal_px_ * c.right / c.fwd;
+    const double y = 0.5 * config_.height_px - focal_px_ * c.up / c.fwd;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+  }
+  return cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
+}
+
+std::optional<cv::Rect2d> CameraSim::buoy_box(const core::NavPose& pose,
+                                              const world::Buoy& b) const {
+  const Vec3 c = to_camera(view_of(pose), b.center, 0.5 * b.height_m);
+  if (c.fwd < kNearM + b.radius_m) return std::nullopt;
+  const double x = 0.5 * config_.width_px + focal_px_ * c.right / c.fwd;
+  const double y = 0.5 * config_.height_px - focal_px_ * c.up / c.fwd;
+  const double ax = focal_px_ * b.radius_m / c.fwd;
+  const double ay = focal_px_ * 0.5 * b.height_m / c.fwd;
+  return cv::Rect2d(x - ax, y - ay, 2.0 * ax, 2.0 * ay);
 }
 
 CameraSim::View CameraSim::view_of(const core::NavPose& pose) const {
@@ -356,7 +528,12 @@ void CameraSim::apply_effects(const core::NavPose& pose, cv::Mat& img) {
 }
 
 void CameraSim::render(const core::NavPose& pose, cv::Mat& out) {
-  background_.copyTo(out);
+  if (venue_backgrounds_.empty()) {
+    background_.copyTo(out);
+  } else {
+    venue_backgrounds_[static_cast<std::size_t>(rng_.next_u64() % venue_backgrounds_.size())]
+        .copyTo(out);
+  }
   const View v = view_of(pose);
   items_.clear();
   for (std::size_t i = 0; i < walls_.size(); ++i) {
@@ -386,6 +563,7 @@ void CameraSim::render(const core::NavPose& pose, cv::Mat& out) {
         break;
     }
   }
+  if (config_.venue != Venue::kPool) apply_light(out);
   apply_effects(pose, out);
 }
 

@@ -8,7 +8,9 @@
 // Frames are BGR (CV_8UC3) as the camera driver delivers them. Not thread-safe; no allocation per
 // frame once the first frame of a size is rendered.
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -20,6 +22,15 @@
 #include "sim/world/world.hpp"
 
 namespace coxswain::sim::sensors {
+
+/// Where the boat sails, for the renderer's sky, water and light. kPool: grey-green calm water,
+/// pale sky (the detectors' original test scene). kHarbour: blue-green sea (hue about 100,
+/// saturation 120-160) with waves and sun glint under a blue sky. kOvercast: grey sky, dull
+/// green-grey sea, everything in shade (darker, less saturated). kLowSun: warm light from low in
+/// the sky, an orange sky near the horizon, a dark sea with a glint path.
+enum class Venue : std::uint8_t { kPool, kHarbour, kOvercast, kLowSun };
+[[nodiscard]] std::string_view venue_name(Venue v);
+[[nodiscard]] std::optional<Venue> parse_venue(std::string_view name);
 
 struct CameraSimConfig {
   int width_px = 640;  // devices.yaml camera
@@ -39,6 +50,7 @@ struct CameraSimConfig {
   double sun_blob_radius_px = 60.0;  // 1-sigma of the bright blob; 0 = no blob
   int blur_kernel_px = 0;            // Gaussian blur, odd; 0 = off
   double noise_sigma = 0.0;          // pixel noise, grey levels; 0 = off
+  Venue venue = Venue::kPool;
   std::uint64_t seed = 4;
 
   [[nodiscard]] std::string validate() const;
@@ -63,6 +75,12 @@ class CameraSim {
                              cv::Point2d& px) const;
   /// Camera-frame bearing (+ right) of a point seen from `pose`, degrees.
   [[nodiscard]] double bearing_in_image_deg(const core::NavPose& pose, core::NavPoint p) const;
+  /// Image bounding box (x right, y down, pixels) of a marker's glyph or a buoy seen from `pose`;
+  /// nullopt when behind the camera or (marker) seen from the back.
+  [[nodiscard]] std::optional<cv::Rect2d> marker_box(const core::NavPose& pose,
+                                                     const world::Marker& m) const;
+  [[nodiscard]] std::optional<cv::Rect2d> buoy_box(const core::NavPose& pose,
+                                                   const world::Buoy& b) const;
   [[nodiscard]] double focal_px() const { return focal_px_; }
   [[nodiscard]] const CameraSimConfig& config() const { return config_; }
 
@@ -93,6 +111,8 @@ class CameraSim {
   /// Clips a camera-frame polygon at the near plane and projects it; false when nothing is left.
   bool project_polygon(const std::vector<Vec3>& poly, std::vector<cv::Point>& out);
   void build_background();
+  void build_venue_backgrounds();
+  void apply_light(cv::Mat& img);
   void draw_wall(const View& v, const WallPiece& w, cv::Mat& img);
   void draw_buoy(const View& v, const world::Buoy& b, cv::Mat& img);
   void draw_marker(const View& v, const world::Marker& m, cv::Mat& img);
@@ -107,6 +127,7 @@ class CameraSim {
   double cos_tilt_ = 1.0;
   double sin_tilt_ = 0.0;
   cv::Mat background_;
+  std::vector<cv::Mat> venue_backgrounds_;  // wave phases; one picked at random per frame
   std::vector<cv::Mat> noise_frames_;
   cv::Mat blob_;
   cv::Mat grey_;

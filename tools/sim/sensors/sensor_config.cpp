@@ -154,6 +154,11 @@ CameraSimConfig read_camera(MapReader& r, std::uint64_t seed) {
   c.sun_blob_radius_px = r.get<double>("sun_blob_radius_px", c.sun_blob_radius_px);
   c.blur_kernel_px = r.get<int>("blur_kernel_px", c.blur_kernel_px);
   c.noise_sigma = r.get<double>("noise_sigma", c.noise_sigma);
+  c.venue = r.get_enum("venue", c.venue,
+                       {{"pool", Venue::kPool},
+                        {"harbour", Venue::kHarbour},
+                        {"overcast", Venue::kOvercast},
+                        {"low_sun", Venue::kLowSun}});
   c.seed = read_seed(r, seed);
   check(r, c.validate());
   r.finish();

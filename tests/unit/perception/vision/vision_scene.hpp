@@ -59,6 +59,24 @@ inline cv::Mat water_background(int width, int height) {
   return img;
 }
 
+/// 640x480 open water: a sky gradient above the middle row, rippled water below (BGR), noise.
+inline cv::Mat sea_background(cv::Scalar sky_top, cv::Scalar sky_horizon, cv::Scalar water_far,
+                              cv::Scalar water_near, std::uint64_t seed, int width = 640,
+                              int height = 480);
+
+/// Harbour: blue sky, blue-green sea (hue about 97, saturation 130-150: inside the blue box).
+inline cv::Mat harbour_scene(std::uint64_t seed, int width = 640, int height = 480) {
+  return sea_background({200, 150, 95}, {225, 205, 180}, {150, 132, 72}, {120, 100, 50}, seed,
+                        width, height);
+}
+
+/// Low sun: an orange sky near the horizon (hue about 13, saturation 160: inside the orange
+/// box) over a dark sea.
+inline cv::Mat low_sun_scene(std::uint64_t seed, int width = 640, int height = 480) {
+  return sea_background({150, 140, 150}, {88, 152, 236}, {96, 87, 50}, {76, 69, 40}, seed, width,
+                        height);
+}
+
 /// Outline of `shape` centred at `c`, fitting a `size_px` square, rotated by `rot_deg`.
 /// Circles are returned as a 64-gon (only for perspective warps of the outline; drawing uses
 /// cv::circle).
@@ -163,6 +181,26 @@ inline void over_expose(cv::Mat& img, double s_scale, int v_add) {
     }
   }
   cv::cvtColor(hsv, img, cv::COLOR_HSV2BGR);
+}
+
+inline cv::Mat sea_background(cv::Scalar sky_top, cv::Scalar sky_horizon, cv::Scalar water_far,
+                              cv::Scalar water_near, std::uint64_t seed, int width, int height) {
+  cv::Mat img(height, width, CV_8UC3);
+  for (int y = 0; y < height; ++y) {
+    const bool sky = y < height / 2;
+    const double t = sky ? y / (0.5 * height) : (y - 0.5 * height) / (0.5 * height);
+    const cv::Scalar base =
+        sky ? sky_top * (1.0 - t) + sky_horizon * t : water_far * (1.0 - t) + water_near * t;
+    for (int x = 0; x < width; ++x) {
+      const double s = sky ? 0.0 : std::sin(0.9 * y + 0.8 * std::sin(x / (8.0 + 60.0 * t)));
+      const double k = 1.0 + 0.12 * s;
+      img.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(base[0] * k + 6 * s),
+                                          cv::saturate_cast<uchar>(base[1] * k + 8 * s),
+                                          cv::saturate_cast<uchar>(base[2] * k + 3 * s));
+    }
+  }
+  add_noise(img, 3.0, seed);
+  return img;
 }
 
 }  // namespace coxswain::perception::testing

@@ -224,5 +224,38 @@ TEST(CameraSim, FramesAtItsRate) {
   EXPECT_EQ(frames, 30);
 }
 
+TEST(CameraSim, HarbourSeaIsBlueGreenAndEveryVenueStillShowsItsMarker) {
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  const world::World w = dock_world(5.0, 0.0, msg::Colour::kBlue, msg::Shape::kCross);
+  CameraSimConfig c = plain_config();
+  c.venue = Venue::kHarbour;
+  CameraSim cam(c, w);
+  cv::Mat frame;
+  cam.render(pose, frame);
+  // The water below the placard: hue about 97 (OpenCV), saturated: inside the default blue box.
+  cv::Mat hsv;
+  cv::cvtColor(frame(cv::Rect(20, 400, 600, 60)), hsv, cv::COLOR_BGR2HSV);
+  const cv::Scalar mean = cv::mean(hsv);
+  EXPECT_NEAR(mean[0], 97.0, 6.0);
+  EXPECT_GT(mean[1], 110.0);
+  // The label box of the glyph is where the detector finds it, at every venue.
+  const auto box = cam.marker_box(pose, w.docks[0].marker);
+  ASSERT_TRUE(box.has_value());
+  for (const Venue v : {Venue::kPool, Venue::kHarbour, Venue::kOvercast, Venue::kLowSun}) {
+    CameraSimConfig cv_config = plain_config();
+    cv_config.venue = v;
+    CameraSim venue_cam(cv_config, w);
+    venue_cam.render(pose, frame);
+    perception::MarkerDetector detector;
+    msg::CameraDetections out;
+    ASSERT_TRUE(detector.detect(frame, 0, out));
+    const auto hit = perception::find_target(out, msg::Colour::kBlue, msg::Shape::kCross);
+    ASSERT_TRUE(hit.has_value()) << venue_name(v);
+    EXPECT_TRUE(box->contains(cv::Point2d(hit->center_x_px, hit->center_y_px))) << venue_name(v);
+  }
+  EXPECT_EQ(parse_venue("low_sun"), Venue::kLowSun);
+  EXPECT_FALSE(parse_venue("lake").has_value());
+}
+
 }  // namespace
 }  // namespace coxswain::sim::sensors
