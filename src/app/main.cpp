@@ -20,6 +20,7 @@
 #include "coxswain/app/run_dir.hpp"
 #include "coxswain/config/config.hpp"
 #include "coxswain/config/reference.hpp"
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "coxswain/live/control_protocol.hpp"
 #include "coxswain/replay/command.hpp"
@@ -74,6 +75,10 @@ int check_config(const std::vector<std::string>& files) {
       case coxswain::config::ConfigKind::kMission:
         kind_name = "mission";
         (void)coxswain::config::load_mission_config(file, errors);
+        break;
+      case coxswain::config::ConfigKind::kVision:
+        kind_name = "vision";
+        (void)coxswain::config::load_vision_file(file, errors);
         break;
       case coxswain::config::ConfigKind::kCourse:
       case coxswain::config::ConfigKind::kSimSensors:

@@ -314,17 +314,19 @@ ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors) {
   if (!doc->IsMap() || !(*doc)["kind"] || !(*doc)["kind"].IsScalar()) {
     errors.add({path, 1, "kind",
                 "is required: every coxswain config file starts with "
-                "kind: boat | devices | mission | course | sensors"});
+                "kind: boat | devices | mission | vision | course | sensors"});
     return ConfigKind::kUnknown;
   }
   const std::string kind = (*doc)["kind"].Scalar();
   if (kind == "boat") return ConfigKind::kBoat;
   if (kind == "devices") return ConfigKind::kDevices;
   if (kind == "mission") return ConfigKind::kMission;
+  if (kind == "vision") return ConfigKind::kVision;
   if (kind == "course") return ConfigKind::kCourse;
   if (kind == "sensors") return ConfigKind::kSimSensors;
-  errors.add({path, (*doc)["kind"].Mark().line + 1, "kind",
-              "must be one of: boat, devices, mission, course, sensors; got '" + kind + "'"});
+  errors.add(
+      {path, (*doc)["kind"].Mark().line + 1, "kind",
+       "must be one of: boat, devices, mission, vision, course, sensors; got '" + kind + "'"});
   return ConfigKind::kUnknown;
 }
 

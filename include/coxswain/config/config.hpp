@@ -27,7 +27,15 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
 MissionConfig load_mission_config(const std::string& path, ConfigErrors& errors);
 
 /// What kind of file a config file is, from its top-level `kind:` key.
-enum class ConfigKind : std::uint8_t { kBoat, kDevices, kMission, kCourse, kSimSensors, kUnknown };
+enum class ConfigKind : std::uint8_t {
+  kBoat,
+  kDevices,
+  kMission,
+  kVision,
+  kCourse,
+  kSimSensors,
+  kUnknown
+};
 ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors);
 
 /// The effective configuration as YAML (for --print-config and the flight recorder).
