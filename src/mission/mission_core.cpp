@@ -16,6 +16,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/nav_filter.hpp"
 #include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
@@ -115,7 +116,9 @@ struct MissionCore::Impl {
         heading_filter({c.mission.navigation.heading_filter_tau_s}),
         calibration(c.mission.gps_calibration, core::NavPoint{}),
         position_filter({c.mission.navigation.position_gain}),
+        kalman(c.mission.navigation.position_gain < 1.0),
         clusterer(c.mission.clustering) {
+    if (auto e = nav.params().validate()) throw std::invalid_argument(*e);
     if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
     if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
     if (auto e = m.gps_calibration.validate()) throw std::invalid_argument(*e);
@@ -153,14 +156,23 @@ struct MissionCore::Impl {
 
     if (s.imu.valid() && s.imu.sequence != imu_seq) {
       imu_seq = s.imu.sequence;
-      if (std::isfinite(s.imu.value.heading_deg)) {
-        heading_deg = heading_filter.update(s.imu.value.heading_deg, s.imu.stamp_ns);
+      const msg::ImuSample& imu = s.imu.value;
+      if (kalman) {
+        nav.add_imu(s.imu.stamp_ns, imu.heading_deg, imu.has_inertial, imu.gyro_dps[2],
+                    imu.accel_g[0], imu.accel_g[1], imu.roll_deg, imu.pitch_deg);
+        if (nav.has_heading()) {
+          heading_deg = nav.heading_deg();
+          heading_stamp_ns = s.imu.stamp_ns;
+          has_heading = true;
+        }
+      } else if (std::isfinite(imu.heading_deg)) {
+        heading_deg = heading_filter.update(imu.heading_deg, s.imu.stamp_ns);
         heading_stamp_ns = s.imu.stamp_ns;
         has_heading = true;
       }
       yaw_rate_dps.reset();
-      if (s.imu.value.has_inertial && std::isfinite(s.imu.value.gyro_dps[2])) {
-        yaw_rate_dps = s.imu.value.gyro_dps[2];
+      if (imu.has_inertial && std::isfinite(imu.gyro_dps[2])) {
+        yaw_rate_dps = imu.gyro_dps[2] - (kalman ? nav.yaw_rate_bias_dps() : 0.0);
       }
     }
     heading_valid = imu_fresh && has_heading && std::isfinite(s.imu.value.heading_deg);
@@ -174,7 +186,18 @@ struct MissionCore::Impl {
         if (s.gnss.value.velocity_valid) {
           vel = core::NavPoint{s.gnss.value.vel_north_mps, s.gnss.value.vel_east_mps};
         }
-        position_filter.add_fix(fix, s.gnss.stamp_ns, vel);
+        if (kalman) {
+          const bool first = !nav.has_position();
+          (void)nav.add_fix(s.gnss.stamp_ns, fix, s.gnss.value);
+          if (first && nav.has_position() && !m.calibrate_gps_at_start) {
+            // No start calibration: the mission takes the receiver's frame as the waypoints'
+            // (RTK on a surveyed base, or points surveyed with this receiver).
+            (void)nav.add_bias_measurement({0.0, 0.0}, nav.params().uncalibrated_bias_sigma_m);
+          }
+          if (s.gnss.value.h_acc_m > 0.0) last_h_acc_m = s.gnss.value.h_acc_m;
+        } else {
+          position_filter.add_fix(fix, s.gnss.stamp_ns, vel);
+        }
         has_fix = true;
         if (top == Top::kWaitForStart && m.calibrate_gps_at_start) {
           // The known start point is the body origin; the antenna sits at its mount behind it,
@@ -184,14 +207,22 @@ struct MissionCore::Impl {
           core::NavPoint lever;
           core::NavPoint drift;
           if (m.navigation.start_lever_arm) lever = mount_offset();
-          if (m.navigation.start_drift) drift = position_filter.travelled_m();
+          if (m.navigation.start_drift) {
+            drift = kalman ? nav.travelled_m() : position_filter.travelled_m();
+          }
           calibration.add({fix.north_m - lever.north_m - drift.north_m,
                            fix.east_m - lever.east_m - drift.east_m});
         }
       }
     }
     position_valid = gnss_fresh && fix_usable && has_fix;
-    if (has_fix) raw_antenna = position_filter.position_at(now);
+    if (kalman) {
+      nav.predict_to(now);
+      if (nav.has_heading()) heading_deg = nav.heading_deg();
+      if (nav.has_position()) antenna = nav.position();
+    } else if (has_fix) {
+      raw_antenna = position_filter.position_at(now);
+    }
     update_pose();
   }
 
@@ -202,7 +233,8 @@ struct MissionCore::Impl {
   }
 
   void update_pose() {
-    antenna = offset.apply(raw_antenna);
+    // The filter's antenna is already free of the receiver's bias (a state of its own).
+    if (!kalman) antenna = offset.apply(raw_antenna);
     // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
     const core::NavPoint lever = mount_offset();
     pose.position = {antenna.north_m - lever.north_m, antenna.east_m - lever.east_m};
@@ -340,6 +372,8 @@ struct MissionCore::Impl {
     c.heading_valid = heading_valid;
     c.pose = pose;
     c.antenna = antenna;
+    c.position_cov_valid = kalman && nav.has_position();
+    if (c.position_cov_valid) c.position_cov = nav.position_covariance();
     c.lidar_fresh = lidar_fresh && lidar_seq != 0;
     c.lidar_new = lidar_new;
     c.obstacles = &obstacles;
@@ -441,7 +475,18 @@ struct MissionCore::Impl {
     }
     if (m.calibrate_gps_at_start) {
       const guidance::CalibrationResult r = calibration.result();
-      offset = r.offset;
+      if (kalman) {
+        // The start point measures the receiver's bias: the mean of the waiting fixes, as
+        // uncertain as the boat's placement on the point and the fixes' averaged noise.
+        const double place = nav.params().start_placement_sigma_m;
+        const double noise = last_h_acc_m / std::sqrt(2.0);
+        const double n = static_cast<double>(std::max<std::size_t>(r.fix_count, 1));
+        (void)nav.add_bias_measurement({r.offset.north_m, r.offset.east_m},
+                                       std::sqrt(place * place + noise * noise / n));
+        antenna = nav.position();
+      } else {
+        offset = r.offset;
+      }
       status.gps_calibrated = true;
       update_pose();
     }
@@ -552,8 +597,22 @@ struct MissionCore::Impl {
     status.task_elapsed_s = top == Top::kActive ? core::ns_to_sec(now - task_start_ns) : 0.0;
     status.position_valid = position_valid;
     status.heading_valid = heading_valid;
-    status.gps_offset_north_m = offset.north_m;
-    status.gps_offset_east_m = offset.east_m;
+    if (kalman) {
+      status.gps_offset_north_m = nav.gnss_bias_m().north_m;
+      status.gps_offset_east_m = nav.gnss_bias_m().east_m;
+      status.position_cov_valid = nav.has_position();
+      const guidance::PositionCovariance cov = nav.position_covariance();
+      status.position_cov_nn_m2 = cov.nn_m2;
+      status.position_cov_ne_m2 = cov.ne_m2;
+      status.position_cov_ee_m2 = cov.ee_m2;
+      status.heading_sigma_deg = nav.has_heading() ? nav.heading_sigma_deg() : 0.0;
+      status.mag_disagrees = nav.mag_disagrees();
+      status.mag_cog_mean_deg = nav.mag_cog_mean_deg();
+      status.gnss_fixes_rejected = nav.counters().fixes_rejected;
+    } else {
+      status.gps_offset_north_m = offset.north_m;
+      status.gps_offset_east_m = offset.east_m;
+    }
     status.course_zero_deg = course_zero_deg;
     out.status = status;
 
@@ -561,6 +620,10 @@ struct MissionCore::Impl {
     v.stamp_ns = now;
     v.pose_valid = position_valid;
     v.pose = pose;
+    v.position_cov_valid = status.position_cov_valid;
+    v.position_cov_nn_m2 = status.position_cov_nn_m2;
+    v.position_cov_ne_m2 = status.position_cov_ne_m2;
+    v.position_cov_ee_m2 = status.position_cov_ee_m2;
     v.heading_valid = heading_valid;
     v.segment_count = std::min<std::uint32_t>(obstacles.count, VizFrame::kMaxSegments);
     for (std::uint32_t i = 0; i < v.segment_count; ++i) {
@@ -581,7 +644,10 @@ struct MissionCore::Impl {
   control::RateLimiter ramp;
   control::AngleLowPass heading_filter;
   guidance::GpsCalibration calibration;
-  guidance::PositionFilter position_filter;
+  guidance::PositionFilter position_filter;  // the documents' raw fixes (position_gain 1)
+  bool kalman;                               // else the GNSS + IMU Kalman filter
+  guidance::NavFilter nav;
+  double last_h_acc_m = 0.8;  // the receiver's last hAcc (start calibration noise)
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
   perception::RangeProfile profile;
