@@ -440,6 +440,14 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
                                {{"ascii", ImuOutput::kAscii}, {"binary", ImuOutput::kBinary}});
     d.imu.rate_hz = m->get("rate_hz", 100.0, {1.0, 100.0});
     d.imu.declination_deg = m->get("declination_deg", 0.0, {-180.0, 180.0});
+    // ---- BEGIN magnetometer calibration (`coxswain calibrate mag`; port to the tables) ----
+    d.imu.mag_hard_iron_x_ut = m->get("mag_hard_iron_x_ut", 0.0, {-1000.0, 1000.0});
+    d.imu.mag_hard_iron_y_ut = m->get("mag_hard_iron_y_ut", 0.0, {-1000.0, 1000.0});
+    d.imu.mag_soft_iron_xx = m->get("mag_soft_iron_xx", 1.0, {-10.0, 10.0});
+    d.imu.mag_soft_iron_xy = m->get("mag_soft_iron_xy", 0.0, {-10.0, 10.0});
+    d.imu.mag_soft_iron_yx = m->get("mag_soft_iron_yx", 0.0, {-10.0, 10.0});
+    d.imu.mag_soft_iron_yy = m->get("mag_soft_iron_yy", 1.0, {-10.0, 10.0});
+    // ---- END magnetometer calibration ----
     m->finish();
   }
   if (auto m = root.map("gnss", true)) {

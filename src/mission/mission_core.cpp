@@ -16,6 +16,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/mag_calibration.hpp"
 #include "coxswain/guidance/nav_filter.hpp"
 #include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
@@ -119,6 +120,14 @@ struct MissionCore::Impl {
         kalman(c.mission.navigation.position_gain < 1.0),
         clusterer(c.mission.clustering) {
     if (auto e = nav.params().validate()) throw std::invalid_argument(*e);
+    const config::ImuDeviceConfig& imu = c.devices.imu;
+    mag_cal.hard_iron_x_ut = imu.mag_hard_iron_x_ut;
+    mag_cal.hard_iron_y_ut = imu.mag_hard_iron_y_ut;
+    mag_cal.soft_iron = {imu.mag_soft_iron_xx, imu.mag_soft_iron_xy, imu.mag_soft_iron_yx,
+                         imu.mag_soft_iron_yy};
+    mag_calibrated = imu.mag_hard_iron_x_ut != 0.0 || imu.mag_hard_iron_y_ut != 0.0 ||
+                     imu.mag_soft_iron_xx != 1.0 || imu.mag_soft_iron_xy != 0.0 ||
+                     imu.mag_soft_iron_yx != 0.0 || imu.mag_soft_iron_yy != 1.0;
     if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
     if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
     if (auto e = m.gps_calibration.validate()) throw std::invalid_argument(*e);
@@ -158,7 +167,14 @@ struct MissionCore::Impl {
       imu_seq = s.imu.sequence;
       const msg::ImuSample& imu = s.imu.value;
       if (kalman) {
-        nav.add_imu(s.imu.stamp_ns, imu.heading_deg, imu.has_inertial, imu.gyro_dps[2],
+        double mag_heading_deg = imu.heading_deg;
+        if (mag_calibrated && imu.has_inertial) {
+          // The calibrated field's heading, turned by what the driver adds to the sensor's yaw
+          // (declination - mount yaw). Level approximation.
+          mag_heading_deg = core::wrap_deg(mag_cal.heading_deg(imu.mag_ut[0], imu.mag_ut[1]) +
+                                           imu.heading_deg - imu.yaw_magnetic_deg);
+        }
+        nav.add_imu(s.imu.stamp_ns, mag_heading_deg, imu.has_inertial, imu.gyro_dps[2],
                     imu.accel_g[0], imu.accel_g[1], imu.roll_deg, imu.pitch_deg);
         if (nav.has_heading()) {
           heading_deg = nav.heading_deg();
@@ -647,6 +663,8 @@ struct MissionCore::Impl {
   guidance::PositionFilter position_filter;  // the documents' raw fixes (position_gain 1)
   bool kalman;                               // else the GNSS + IMU Kalman filter
   guidance::NavFilter nav;
+  guidance::MagCalibration mag_cal;  // devices file, `coxswain calibrate mag`
+  bool mag_calibrated = false;
   double last_h_acc_m = 0.8;  // the receiver's last hAcc (start calibration noise)
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
