@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The navigation filter on real recordings (../shared/testdata; skipped when absent):
+// The navigation filter on real recordings (the shared test data; skipped when absent):
 //  * a moving u-blox F9 rover whose fixes are mostly RTK fixed: the RTK fixed track is the truth;
 //    each fix is degraded to single-point quality with the receiver's own single-point noise
 //    (its hAcc and sAcc in the epochs it had no carrier solution, cycled), and the filter's track
