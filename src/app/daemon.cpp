@@ -144,7 +144,8 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
 
   // The mission core is built first: a configuration it rejects stops the run before any
   // device is touched.
-  auto core = std::make_unique<mission::MissionCore>(config.boat, config.mission);
+  auto core = std::make_unique<mission::MissionCore>(config.boat, config.mission,
+                                                     config::magnetometer_of(config.devices.imu));
   auto out = std::make_unique<mission::CoreOutput>();
   auto tick_viz = std::make_unique<record::TickViz>();
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "coxswain/app/calibrate_mag.hpp"
 #include "coxswain/app/daemon.hpp"
 #include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/logging.hpp"
@@ -209,6 +210,14 @@ int main(int argc, char** argv) {
   report->add_option("-o,--output", report_out, "The HTML file (default: the recording's, .html)");
   int vision_exit = 0;
   const CLI::App* vision = coxswain::app::add_vision_commands(app, vision_exit);
+  auto* calibrate = app.add_subcommand("calibrate", "Fit a sensor calibration from a recording");
+  auto* calibrate_mag = calibrate->add_subcommand(
+      "mag",
+      "Magnetometer hard- and soft-iron terms from a recorded slow turn in place, written to "
+      "the devices file (--devices, default <config-dir>/devices.yaml)");
+  std::string calibrate_file;
+  calibrate_mag->add_option("file", calibrate_file, "The recording (RUN/run.mcap)")->required();
+  calibrate->require_subcommand(1);
   app.require_subcommand(0, 1);
 
   CLI11_PARSE(app, argc, argv);
@@ -268,6 +277,13 @@ int main(int argc, char** argv) {
     }
     std::cout << *answer << "\n";
     return coxswain::live::answer_ok(*answer) ? 0 : kExitRuntime;
+  }
+
+  if (calibrate_mag->parsed()) {
+    const fs::path dir = resolve_config_dir(config_dir_flag);
+    return coxswain::app::calibrate_mag(
+        calibrate_file, devices_file.empty() ? (dir / "devices.yaml").string() : devices_file,
+        std::cout, std::cerr);
   }
 
   const auto level = coxswain::app::parse_log_level(log_level);

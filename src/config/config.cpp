@@ -459,4 +459,13 @@ std::string to_yaml(const Configuration& c) {
   return std::string(out.c_str()) + "\n";
 }
 
+guidance::MagCalibration magnetometer_of(const ImuDeviceConfig& imu) {
+  guidance::MagCalibration m;
+  m.hard_iron_x_ut = imu.mag_hard_iron_x_ut;
+  m.hard_iron_y_ut = imu.mag_hard_iron_y_ut;
+  m.soft_iron = {imu.mag_soft_iron_xx, imu.mag_soft_iron_xy, imu.mag_soft_iron_yx,
+                 imu.mag_soft_iron_yy};
+  return m;
+}
+
 }  // namespace coxswain::config

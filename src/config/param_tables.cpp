@@ -698,6 +698,20 @@ constexpr std::array kImu{
     real_param<ImuDeviceConfig, &ImuDeviceConfig::declination_deg>(
         "declination_deg", "deg", -180.0, 180.0, kFixed,
         "magnetic declination at the site, east positive"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_hard_iron_x_ut>(
+        "mag_hard_iron_x_ut", "uT", -1000.0, 1000.0, kFixed,
+        "magnetometer hard iron, board x (coxswain calibrate mag)"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_hard_iron_y_ut>(
+        "mag_hard_iron_y_ut", "uT", -1000.0, 1000.0, kFixed,
+        "magnetometer hard iron, board y (coxswain calibrate mag)"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_soft_iron_xx>(
+        "mag_soft_iron_xx", "", -10.0, 10.0, kFixed, "magnetometer soft-iron map, row 1 column 1"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_soft_iron_xy>(
+        "mag_soft_iron_xy", "", -10.0, 10.0, kFixed, "magnetometer soft-iron map, row 1 column 2"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_soft_iron_yx>(
+        "mag_soft_iron_yx", "", -10.0, 10.0, kFixed, "magnetometer soft-iron map, row 2 column 1"),
+    real_param<ImuDeviceConfig, &ImuDeviceConfig::mag_soft_iron_yy>(
+        "mag_soft_iron_yy", "", -10.0, 10.0, kFixed, "magnetometer soft-iron map, row 2 column 2"),
 };
 
 constexpr std::array kReceivers{

@@ -18,6 +18,10 @@ void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boa
   viz.north_m = f.pose.position.north_m;
   viz.east_m = f.pose.position.east_m;
   viz.heading_deg = f.pose.heading_deg;
+  viz.cov_valid = f.position_cov_valid;
+  viz.cov_nn_m2 = f.position_cov_nn_m2;
+  viz.cov_ne_m2 = f.position_cov_ne_m2;
+  viz.cov_ee_m2 = f.position_cov_ee_m2;
   viz.hull_length_m = static_cast<float>(boat.hull.length_m);
   viz.hull_beam_m = static_cast<float>(boat.hull.beam_m);
   if (f.has_avoidance) {

@@ -17,6 +17,8 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/mag_calibration.hpp"
+#include "coxswain/guidance/nav_filter.hpp"
 #include "coxswain/guidance/nav_map.hpp"
 #include "coxswain/guidance/position_filter.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
@@ -105,7 +107,8 @@ double age_ms(const core::TimeNs age_ns) {
 struct MissionCore::Impl {
   enum class Top : std::uint8_t { kWaitForStart, kActive, kFinished };
 
-  Impl(const config::BoatConfig& boat, const config::MissionConfig& mission)
+  Impl(const config::BoatConfig& boat, const config::MissionConfig& mission,
+       const guidance::MagCalibration& magnetometer)
       : m(mission),
         camera_timeout_ms(mission.camera_stale_ms),
         gnss_mount(boat.mounts.gnss),
@@ -117,7 +120,12 @@ struct MissionCore::Impl {
         heading_filter({mission.navigation.heading_filter_tau_s}),
         calibration(mission.gps_calibration, core::NavPoint{}),
         position_filter({mission.navigation.position_gain}),
+        kalman(mission.navigation.position_gain < 1.0),
         clusterer(mission.clustering) {
+    if (auto e = nav.params().validate()) throw std::invalid_argument(*e);
+    mag_cal = magnetometer;
+    mag_calibrated = magnetometer.hard_iron_x_ut != 0.0 || magnetometer.hard_iron_y_ut != 0.0 ||
+                     magnetometer.soft_iron != std::array<double, 4>{1.0, 0.0, 0.0, 1.0};
     if (auto e = m.heading_pid.validate()) throw std::invalid_argument("heading_pid: " + *e);
     if (auto e = m.speed.validate()) throw std::invalid_argument("speed: " + *e);
     if (auto e = m.gps_calibration.validate()) throw std::invalid_argument(*e);
@@ -184,14 +192,30 @@ struct MissionCore::Impl {
 
     if (s.imu.valid() && s.imu.sequence != imu_seq) {
       imu_seq = s.imu.sequence;
-      if (std::isfinite(s.imu.value.heading_deg)) {
-        heading_deg = heading_filter.update(s.imu.value.heading_deg, s.imu.stamp_ns);
+      const msg::ImuSample& imu = s.imu.value;
+      if (kalman) {
+        double mag_heading_deg = imu.heading_deg;
+        if (mag_calibrated && imu.has_inertial) {
+          // The calibrated field's heading, turned by what the driver adds to the sensor's yaw
+          // (declination - mount yaw). Level approximation.
+          mag_heading_deg = core::wrap_deg(mag_cal.heading_deg(imu.mag_ut[0], imu.mag_ut[1]) +
+                                           imu.heading_deg - imu.yaw_magnetic_deg);
+        }
+        nav.add_imu(s.imu.stamp_ns, mag_heading_deg, imu.has_inertial, imu.gyro_dps[2],
+                    imu.accel_g[0], imu.accel_g[1], imu.roll_deg, imu.pitch_deg);
+        if (nav.has_heading()) {
+          heading_deg = nav.heading_deg();
+          heading_stamp_ns = s.imu.stamp_ns;
+          has_heading = true;
+        }
+      } else if (std::isfinite(imu.heading_deg)) {
+        heading_deg = heading_filter.update(imu.heading_deg, s.imu.stamp_ns);
         heading_stamp_ns = s.imu.stamp_ns;
         has_heading = true;
       }
       yaw_rate_dps.reset();
-      if (s.imu.value.has_inertial && std::isfinite(s.imu.value.gyro_dps[2])) {
-        yaw_rate_dps = s.imu.value.gyro_dps[2];
+      if (imu.has_inertial && std::isfinite(imu.gyro_dps[2])) {
+        yaw_rate_dps = imu.gyro_dps[2] - (kalman ? nav.yaw_rate_bias_dps() : 0.0);
       }
     }
     heading_valid = imu_fresh && has_heading && std::isfinite(s.imu.value.heading_deg);
@@ -205,7 +229,18 @@ struct MissionCore::Impl {
         if (s.gnss.value.velocity_valid) {
           vel = core::NavPoint{s.gnss.value.vel_north_mps, s.gnss.value.vel_east_mps};
         }
-        position_filter.add_fix(fix, s.gnss.stamp_ns, vel);
+        if (kalman) {
+          const bool first = !nav.has_position();
+          (void)nav.add_fix(s.gnss.stamp_ns, fix, s.gnss.value);
+          if (first && nav.has_position() && !m.calibrate_gps_at_start) {
+            // No start calibration: the mission takes the receiver's frame as the waypoints'
+            // (RTK on a surveyed base, or points surveyed with this receiver).
+            (void)nav.add_bias_measurement({0.0, 0.0}, nav.params().uncalibrated_bias_sigma_m);
+          }
+          if (s.gnss.value.h_acc_m > 0.0) last_h_acc_m = s.gnss.value.h_acc_m;
+        } else {
+          position_filter.add_fix(fix, s.gnss.stamp_ns, vel);
+        }
         has_fix = true;
         if (top == Top::kWaitForStart && m.calibrate_gps_at_start) {
           // The known start point is the body origin; the antenna sits at its mount behind it,
@@ -215,14 +250,22 @@ struct MissionCore::Impl {
           core::NavPoint lever;
           core::NavPoint drift;
           if (m.navigation.start_lever_arm) lever = mount_offset();
-          if (m.navigation.start_drift) drift = position_filter.travelled_m();
+          if (m.navigation.start_drift) {
+            drift = kalman ? nav.travelled_m() : position_filter.travelled_m();
+          }
           calibration.add({fix.north_m - lever.north_m - drift.north_m,
                            fix.east_m - lever.east_m - drift.east_m});
         }
       }
     }
     position_valid = gnss_fresh && fix_usable && has_fix;
-    if (has_fix) raw_antenna = position_filter.position_at(now);
+    if (kalman) {
+      nav.predict_to(now);
+      if (nav.has_heading()) heading_deg = nav.heading_deg();
+      if (nav.has_position()) antenna = nav.position();
+    } else if (has_fix) {
+      raw_antenna = position_filter.position_at(now);
+    }
     update_pose();
     // The map takes each scan at the pose it was taken with (this tick's estimate).
     if (map && lidar_new && has_fix && has_heading) {
@@ -237,7 +280,8 @@ struct MissionCore::Impl {
   }
 
   void update_pose() {
-    antenna = offset.apply(raw_antenna);
+    // The filter's antenna is already free of the receiver's bias (a state of its own).
+    if (!kalman) antenna = offset.apply(raw_antenna);
     // The body origin is the bow sensor reference; the antenna sits at the gnss mount.
     const core::NavPoint lever = mount_offset();
     pose.position = {antenna.north_m - lever.north_m, antenna.east_m - lever.east_m};
@@ -375,6 +419,8 @@ struct MissionCore::Impl {
     c.heading_valid = heading_valid;
     c.pose = pose;
     c.antenna = antenna;
+    c.position_cov_valid = kalman && nav.has_position();
+    if (c.position_cov_valid) c.position_cov = nav.position_covariance();
     c.lidar_fresh = lidar_fresh && lidar_seq != 0;
     c.lidar_new = lidar_new;
     c.obstacles = &obstacles;
@@ -478,7 +524,18 @@ struct MissionCore::Impl {
     }
     if (m.calibrate_gps_at_start) {
       const guidance::CalibrationResult r = calibration.result();
-      offset = r.offset;
+      if (kalman) {
+        // The start point measures the receiver's bias: the mean of the waiting fixes, as
+        // uncertain as the boat's placement on the point and the fixes' averaged noise.
+        const double place = nav.params().start_placement_sigma_m;
+        const double noise = last_h_acc_m / std::sqrt(2.0);
+        const double n = static_cast<double>(std::max<std::size_t>(r.fix_count, 1));
+        (void)nav.add_bias_measurement({r.offset.north_m, r.offset.east_m},
+                                       std::sqrt(place * place + noise * noise / n));
+        antenna = nav.position();
+      } else {
+        offset = r.offset;
+      }
       status.gps_calibrated = true;
       update_pose();
     }
@@ -591,8 +648,22 @@ struct MissionCore::Impl {
     status.task_elapsed_s = top == Top::kActive ? core::ns_to_sec(now - task_start_ns) : 0.0;
     status.position_valid = position_valid;
     status.heading_valid = heading_valid;
-    status.gps_offset_north_m = offset.north_m;
-    status.gps_offset_east_m = offset.east_m;
+    if (kalman) {
+      status.gps_offset_north_m = nav.gnss_bias_m().north_m;
+      status.gps_offset_east_m = nav.gnss_bias_m().east_m;
+      status.position_cov_valid = nav.has_position();
+      const guidance::PositionCovariance cov = nav.position_covariance();
+      status.position_cov_nn_m2 = cov.nn_m2;
+      status.position_cov_ne_m2 = cov.ne_m2;
+      status.position_cov_ee_m2 = cov.ee_m2;
+      status.heading_sigma_deg = nav.has_heading() ? nav.heading_sigma_deg() : 0.0;
+      status.mag_disagrees = nav.mag_disagrees();
+      status.mag_cog_mean_deg = nav.mag_cog_mean_deg();
+      status.gnss_fixes_rejected = nav.counters().fixes_rejected;
+    } else {
+      status.gps_offset_north_m = offset.north_m;
+      status.gps_offset_east_m = offset.east_m;
+    }
     status.course_zero_deg = course_zero_deg;
     out.status = status;
 
@@ -600,6 +671,10 @@ struct MissionCore::Impl {
     v.stamp_ns = now;
     v.pose_valid = position_valid;
     v.pose = pose;
+    v.position_cov_valid = status.position_cov_valid;
+    v.position_cov_nn_m2 = status.position_cov_nn_m2;
+    v.position_cov_ne_m2 = status.position_cov_ne_m2;
+    v.position_cov_ee_m2 = status.position_cov_ee_m2;
     v.heading_valid = heading_valid;
     v.segment_count = std::min<std::uint32_t>(obstacles.count, VizFrame::kMaxSegments);
     for (std::uint32_t i = 0; i < v.segment_count; ++i) {
@@ -620,7 +695,12 @@ struct MissionCore::Impl {
   control::RateLimiter ramp;
   control::AngleLowPass heading_filter;
   guidance::GpsCalibration calibration;
-  guidance::PositionFilter position_filter;
+  guidance::PositionFilter position_filter;  // the documents' raw fixes (position_gain 1)
+  bool kalman;                               // else the GNSS + IMU Kalman filter
+  guidance::NavFilter nav;
+  guidance::MagCalibration mag_cal;  // devices file, `coxswain calibrate mag`
+  bool mag_calibrated = false;
+  double last_h_acc_m = 0.8;  // the receiver's last hAcc (start calibration noise)
   perception::LidarClusterer clusterer;
   perception::ObstacleList obstacles;
   perception::RangeProfile profile;
@@ -672,8 +752,9 @@ struct MissionCore::Impl {
   double course_zero_deg = 0.0;
 };
 
-MissionCore::MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission)
-    : impl_(std::make_unique<Impl>(boat, mission)) {}
+MissionCore::MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission,
+                         const guidance::MagCalibration& magnetometer)
+    : impl_(std::make_unique<Impl>(boat, mission, magnetometer)) {}
 MissionCore::~MissionCore() = default;
 MissionCore::MissionCore(MissionCore&&) noexcept = default;
 MissionCore& MissionCore::operator=(MissionCore&&) noexcept = default;

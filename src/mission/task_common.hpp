@@ -61,7 +61,8 @@ class RouteLeg {
     return follower_.set_route(route_.span());
   }
   guidance::WaypointGuidance update(const TaskContext& ctx) {
-    const guidance::WaypointGuidance g = follower_.update(ctx.antenna, ctx.now_ns);
+    const guidance::WaypointGuidance g = follower_.update(
+        ctx.antenna, ctx.now_ns, ctx.position_cov_valid ? &ctx.position_cov : nullptr);
     if (g.event == guidance::WaypointEvent::kArrived) {
       ++ctx.status->waypoints_arrived;
       leg_start_ = route_.points[g.event_index];
@@ -73,7 +74,9 @@ class RouteLeg {
       VizFrame& v = *ctx.viz;
       v.has_goal = true;
       v.goal = g.target;
-      v.arrival_radius_m = params_.arrival_radius_m;
+      v.arrival_radius_m = ctx.position_cov_valid && params_.arrival_confidence > 0.0
+                               ? params_.rule_radius_m
+                               : params_.arrival_radius_m;
       v.active_waypoint = static_cast<std::int32_t>(g.index);
       v.has_leg = true;
       v.leg_start = leg_start_;

@@ -15,6 +15,7 @@
 #include "coxswain/core/time.hpp"
 #include "coxswain/guidance/avoidance.hpp"
 #include "coxswain/guidance/nav_map.hpp"
+#include "coxswain/guidance/nav_filter.hpp"
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/perception/obstacles.hpp"
@@ -35,6 +36,11 @@ struct TaskContext {
   bool heading_valid = false;
   core::NavPose pose;      // body origin (bow)
   core::NavPoint antenna;  // GPS antenna (mid-length): what waypoint arrival is judged on
+  /// The estimator's covariance of `antenna` (the body origin's differs by the heading's share
+  /// through the lever arm, which is small). Invalid with the documents' raw fixes. Use
+  /// guidance::confidently_within / confident_crossing to judge a point or a line by it.
+  bool position_cov_valid = false;
+  guidance::PositionCovariance position_cov;
   bool lidar_fresh = false;
   bool lidar_new = false;  // a scan arrived this tick
   const perception::ObstacleList* obstacles = nullptr;

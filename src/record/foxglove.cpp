@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -374,6 +375,41 @@ std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
                              {"color", color(1.0, 0.2, 0.1, 1.0)},
                              {"colors", json::array()},
                              {"indices", json::array()}});
+  }
+  if (viz.cov_valid) {
+    // The 95 % confidence ellipse of the position (2 dof: sqrt(chi2) = 2.4477 sigma), drawn in
+    // the boat frame: navigation offsets turned by the heading.
+    constexpr double kK95 = 2.4477;
+    const double mean = 0.5 * (viz.cov_nn_m2 + viz.cov_ee_m2);
+    const double half = 0.5 * (viz.cov_nn_m2 - viz.cov_ee_m2);
+    const double r = std::sqrt(half * half + viz.cov_ne_m2 * viz.cov_ne_m2);
+    const double a = kK95 * std::sqrt(std::max(0.0, mean + r));
+    const double b = kK95 * std::sqrt(std::max(0.0, mean - r));
+    const double axis = 0.5 * std::atan2(2.0 * viz.cov_ne_m2, viz.cov_nn_m2 - viz.cov_ee_m2);
+    const double psi = viz.heading_deg * kDegToRad;
+    json points = json::array();
+    constexpr int kSteps = 36;
+    for (int i = 0; i <= kSteps; ++i) {
+      const double t = 2.0 * 3.14159265358979323846 * i / kSteps;
+      const double u = a * std::cos(t);
+      const double v = b * std::sin(t);
+      const double dn = u * std::cos(axis) - v * std::sin(axis);
+      const double de = u * std::sin(axis) + v * std::cos(axis);
+      points.push_back(body_point(dn * std::cos(psi) + de * std::sin(psi),
+                                  -dn * std::sin(psi) + de * std::cos(psi)));
+    }
+    boat["lines"].push_back({{"type", 0},
+                             {"pose", pose(0.0, 0.0, 0.05, 0.0)},
+                             {"thickness", 0.04},
+                             {"scale_invariant", false},
+                             {"points", points},
+                             {"color", color(0.2, 0.6, 1.0, 1.0)},
+                             {"colors", json::array()},
+                             {"indices", json::array()}});
+    char text[96];
+    (void)std::snprintf(text, sizeof text, "%.6g %.6g %.6g", viz.cov_nn_m2, viz.cov_ne_m2,
+                        viz.cov_ee_m2);
+    boat["metadata"].push_back({{"key", "position_cov_nn_ne_ee_m2"}, {"value", text}});
   }
   const std::size_t n = std::min<std::size_t>(viz.obstacle_count, TickViz::kMaxObstacles);
   for (std::size_t i = 0; i < n; ++i) {

@@ -185,7 +185,8 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     return report;
   }
   report.ok = true;
-  mission::MissionCore core(config.boat, config.mission);
+  mission::MissionCore core(config.boat, config.mission,
+                            config::magnetometer_of(config.devices.imu));
   // Large (scan arrays): allocated once, reused for every tick.
   auto tick = std::make_unique<record::TickRecordData>();
   auto scan = std::make_unique<msg::LidarScan>();

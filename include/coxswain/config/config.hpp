@@ -10,6 +10,7 @@
 #include "coxswain/config/config_errors.hpp"
 #include "coxswain/config/devices_config.hpp"
 #include "coxswain/config/mission_config.hpp"
+#include "coxswain/guidance/mag_calibration.hpp"
 
 namespace coxswain::config {
 
@@ -37,6 +38,9 @@ enum class ConfigKind : std::uint8_t {
   kUnknown
 };
 ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors);
+
+/// The magnetometer calibration the devices file holds, as the mission core takes it.
+[[nodiscard]] guidance::MagCalibration magnetometer_of(const ImuDeviceConfig& imu);
 
 /// The effective configuration as YAML (for --print-config and the flight recorder).
 std::string to_yaml(const Configuration& config);

@@ -37,6 +37,14 @@ struct ImuDeviceConfig : SerialDeviceConfig {
   ImuOutput output = ImuOutput::kAscii;
   double rate_hz = 100.0;
   double declination_deg = 0.0;  // magnetic declination at the site, east positive
+  // Hard iron (board x forward, y starboard, microtesla) and the soft-iron map (row-major 2x2)
+  // fitted from a slow turn in place (`coxswain calibrate mag`); zero/identity = uncalibrated.
+  double mag_hard_iron_x_ut = 0.0;
+  double mag_hard_iron_y_ut = 0.0;
+  double mag_soft_iron_xx = 1.0;
+  double mag_soft_iron_xy = 0.0;
+  double mag_soft_iron_yx = 0.0;
+  double mag_soft_iron_yy = 1.0;
 };
 
 struct GnssDeviceConfig : SerialDeviceConfig {

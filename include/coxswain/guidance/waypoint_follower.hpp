@@ -14,6 +14,7 @@
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/guidance/line_follow.hpp"
+#include "coxswain/guidance/nav_filter.hpp"
 
 namespace coxswain::guidance {
 
@@ -21,6 +22,13 @@ struct WaypointFollowerParams {
   /// KABOAT counts a point when half the boat is inside 2 m; 1.5 m at the GPS antenna (mid-length)
   /// leaves a margin for GPS noise.
   double arrival_radius_m = 1.5;
+  /// With a position covariance: a point counts when it lies inside the rule's radius with this
+  /// one-sided confidence (distance + k sigma along the line of sight <= rule_radius_m), in
+  /// place of the fixed margin above. 0 = the fixed margin always.
+  double arrival_confidence = 0.95;
+  /// The rule's circle at the antenna (KABOAT: half the boat inside 2 m; the antenna sits at
+  /// mid-length).
+  double rule_radius_m = 2.0;
   /// Passed the perpendicular through the point (along-track beyond the leg end) within this
   /// distance: the point is missed; advance instead of looping back.
   double slip_radius_m = 4.0;
@@ -52,12 +60,14 @@ class WaypointFollower {
  public:
   static constexpr std::size_t kMaxWaypoints = 64;
 
-  explicit WaypointFollower(WaypointFollowerParams p = {}) : p_(p), line_(p.line) {}
+  explicit WaypointFollower(WaypointFollowerParams p = {});
   /// Replaces the route and restarts at its first point. False (route unchanged) when empty or
   /// longer than kMaxWaypoints.
   [[nodiscard]] bool set_route(std::span<const core::NavPoint> points);
-  /// One step from the boat's position (GPS-offset-corrected, navigation frame).
-  WaypointGuidance update(core::NavPoint position, core::TimeNs stamp_ns);
+  /// One step from the boat's position (GPS-offset-corrected, navigation frame) and, when the
+  /// estimator has one, its covariance (arrival by confidence).
+  WaypointGuidance update(core::NavPoint position, core::TimeNs stamp_ns,
+                          const PositionCovariance* covariance = nullptr);
 
   [[nodiscard]] std::size_t size() const { return count_; }
   [[nodiscard]] std::size_t index() const { return index_; }
@@ -69,6 +79,7 @@ class WaypointFollower {
   void advance(core::NavPoint position);
 
   WaypointFollowerParams p_;
+  double k_sigma_ = 0.0;
   LineFollower line_;
   std::array<core::NavPoint, kMaxWaypoints> route_{};
   std::size_t count_ = 0;

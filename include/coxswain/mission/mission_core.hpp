@@ -22,6 +22,7 @@
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/guidance/avoidance.hpp"
+#include "coxswain/guidance/mag_calibration.hpp"
 #include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
@@ -79,7 +80,19 @@ struct MissionStatus {
   bool gps_calibrated = false;
   double gps_offset_north_m = 0.0;  // subtracted from every fix (measured - true)
   double gps_offset_east_m = 0.0;
-  double course_zero_deg = 0.0;  // true heading of the course frame's 0 deg
+  /// The estimator's uncertainty (guidance::NavFilter): the antenna position's covariance
+  /// (north/east, m^2) and the heading's standard deviation. Invalid with the raw fixes.
+  bool position_cov_valid = false;
+  double position_cov_nn_m2 = 0.0;
+  double position_cov_ne_m2 = 0.0;
+  double position_cov_ee_m2 = 0.0;
+  double heading_sigma_deg = 0.0;
+  /// The magnetometer's heading disagrees with course over ground on straight runs (the mean
+  /// difference, deg, COG - magnetometer): calibrate it (`coxswain calibrate mag`).
+  bool mag_disagrees = false;
+  double mag_cog_mean_deg = 0.0;
+  std::uint32_t gnss_fixes_rejected = 0;  // refused by the filter's chi-square gate
+  double course_zero_deg = 0.0;           // true heading of the course frame's 0 deg
   msg::Colour identified_colour = msg::Colour::kUnknown;  // course 2
   std::int32_t docking_slip = -1;                         // chosen slip (2022 docking), -1 none
   std::uint64_t tick_count = 0;
@@ -120,6 +133,11 @@ struct VizFrame {
   core::TimeNs stamp_ns = core::kNeverNs;
   bool pose_valid = false;
   core::NavPose pose;  // body origin (bow sensor reference), GPS-offset corrected
+  /// Covariance of the position (north/east, m^2): the confidence ellipse around the pose.
+  bool position_cov_valid = false;
+  double position_cov_nn_m2 = 0.0;
+  double position_cov_ne_m2 = 0.0;
+  double position_cov_ee_m2 = 0.0;
   bool heading_valid = false;
   bool has_desired_heading = false;
   double desired_heading_deg = 0.0;
@@ -171,7 +189,10 @@ struct TunableParameters {
 /// with a monotonic `now_ns`. Not thread-safe: one owner, the tick thread.
 class MissionCore {
  public:
-  MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission);
+  /// `magnetometer`: the hard- and soft-iron terms of the IMU's magnetometer (devices file,
+  /// `coxswain calibrate mag`); the default is uncalibrated.
+  MissionCore(const config::BoatConfig& boat, const config::MissionConfig& mission,
+              const guidance::MagCalibration& magnetometer = {});
   ~MissionCore();
   MissionCore(const MissionCore&) = delete;
   MissionCore& operator=(const MissionCore&) = delete;

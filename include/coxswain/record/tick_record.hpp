@@ -28,6 +28,12 @@ struct TickViz {
   double north_m = 0.0;
   double east_m = 0.0;
   double heading_deg = 0.0;
+  /// The position estimate's covariance (north/east, m^2): drawn as its 95 % ellipse and kept
+  /// in the scene's metadata.
+  bool cov_valid = false;
+  double cov_nn_m2 = 0.0;
+  double cov_ne_m2 = 0.0;
+  double cov_ee_m2 = 0.0;
   /// Where the guidance wants to go, body-frame bearing (0 bow, + starboard).
   bool target_valid = false;
   double target_bearing_deg = 0.0;

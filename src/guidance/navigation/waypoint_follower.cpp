@@ -13,9 +13,21 @@ std::optional<std::string> WaypointFollowerParams::validate() const {
   if (!(slip_radius_m >= arrival_radius_m)) {
     return "waypoints: slip_radius_m must be >= arrival_radius_m";
   }
+  if (!(arrival_confidence >= 0.0 && arrival_confidence < 1.0)) {
+    return "waypoints: arrival_confidence must be in [0, 1)";
+  }
+  if (arrival_confidence > 0.0 && !(arrival_confidence >= 0.5)) {
+    return "waypoints: arrival_confidence must be 0 or >= 0.5";
+  }
+  if (!(rule_radius_m > 0.0)) return "waypoints: rule_radius_m must be > 0";
   if (auto e = line.validate()) return e;
   return std::nullopt;
 }
+
+WaypointFollower::WaypointFollower(WaypointFollowerParams p)
+    : p_(p),
+      k_sigma_(p.arrival_confidence > 0.0 ? normal_quantile(p.arrival_confidence) : 0.0),
+      line_(p.line) {}
 
 bool WaypointFollower::set_route(std::span<const core::NavPoint> points) {
   if (points.empty() || points.size() > kMaxWaypoints) return false;
@@ -38,7 +50,8 @@ void WaypointFollower::advance(core::NavPoint position) {
   line_.reset();
 }
 
-WaypointGuidance WaypointFollower::update(core::NavPoint position, core::TimeNs stamp_ns) {
+WaypointGuidance WaypointFollower::update(core::NavPoint position, core::TimeNs stamp_ns,
+                                          const PositionCovariance* covariance) {
   WaypointGuidance g;
   if (count_ == 0 || finished()) {
     g.finished = true;
@@ -59,10 +72,16 @@ WaypointGuidance WaypointFollower::update(core::NavPoint position, core::TimeNs 
   const double dist = core::distance_m(position, target);
   const LineFollowOutput geo = line_.geometry(leg_start_, target, position);
   const bool passed_abeam = geo.leg_length_m > 1e-6 && geo.along_track_m >= geo.leg_length_m;
-  if (dist <= p_.arrival_radius_m) {
+  const bool by_confidence = covariance != nullptr && p_.arrival_confidence > 0.0;
+  // By confidence, the slip circle is judged the same way: confidently inside it.
+  const double margin_m =
+      by_confidence ? k_sigma_ * covariance->sigma_toward_m(position, target) : 0.0;
+  const bool arrived =
+      by_confidence ? dist + margin_m <= p_.rule_radius_m : dist <= p_.arrival_radius_m;
+  if (arrived) {
     g.event = WaypointEvent::kArrived;
     ++arrived_;
-  } else if (passed_abeam && dist <= p_.slip_radius_m) {
+  } else if (passed_abeam && dist + margin_m <= p_.slip_radius_m) {
     g.event = WaypointEvent::kMissed;
     ++missed_;
   }

@@ -111,11 +111,15 @@ TEST(MissionWaitForStart, GpsCalibrationRemovesTheReceiverBias) {
   EXPECT_NE(rig->out.status.waiting_for.view().find("gps calibration"), std::string_view::npos);
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.started; }, 5.0));
   EXPECT_TRUE(rig->out.status.gps_calibrated);
-  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 1e-6);
-  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 1e-6);
+  // The start point is a measurement of the bias (as sure as the boat's placement on it), not an
+  // exact offset: within millimetres of the truth here.
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 0.02);
+  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 0.02);
+  EXPECT_TRUE(rig->out.status.position_cov_valid);
+  EXPECT_LT(rig->out.status.position_cov_nn_m2, 0.4 * 0.4);
   rig->tick();
-  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 1e-6);
-  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 1e-6);
+  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 0.02);
+  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 0.02);
 }
 
 TEST(MissionWaitForStart, CalibrationTakesTheStartPointAsTheBodyOriginNotTheAntenna) {
@@ -127,11 +131,15 @@ TEST(MissionWaitForStart, CalibrationTakesTheStartPointAsTheBodyOriginNotTheAnte
   // bias of 6 m north, 3 m west.
   rig->position = {-0.6 + 6.0, -3.0};
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.started; }, 6.0));
-  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 1e-6);
-  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 1e-6);
+  // The start point is a measurement of the bias (as sure as the boat's placement on it), not an
+  // exact offset: within millimetres of the truth here.
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 6.0, 0.02);
+  EXPECT_NEAR(rig->out.status.gps_offset_east_m, -3.0, 0.02);
+  EXPECT_TRUE(rig->out.status.position_cov_valid);
+  EXPECT_LT(rig->out.status.position_cov_nn_m2, 0.4 * 0.4);
   rig->tick();
-  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 1e-6);
-  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 1e-6);
+  EXPECT_NEAR(rig->out.viz.pose.position.north_m, 0.0, 0.02);
+  EXPECT_NEAR(rig->out.viz.pose.position.east_m, 0.0, 0.02);
 }
 
 TEST(MissionWaitForStart, CalibrationFollowsABoatDriftingOffTheStartPoint) {
@@ -149,7 +157,7 @@ TEST(MissionWaitForStart, CalibrationFollowsABoatDriftingOffTheStartPoint) {
     truth.east_m -= 0.2 * core::ns_to_sec(kTickNs);
   }
   ASSERT_TRUE(rig->out.status.started);
-  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 2.0, 1e-6);
+  EXPECT_NEAR(rig->out.status.gps_offset_north_m, 2.0, 0.02);
   EXPECT_NEAR(rig->out.status.gps_offset_east_m, 0.0, 0.03);
 }
 
@@ -618,6 +626,8 @@ TEST(MissionCourse2, AfterTheFullTurnCirclesOnUntilTheHeadingPointsTheWayOut) {
 
 TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
   config::Configuration c = base_config(config::TaskType::kCourse2);
+  // The course-2 logic on a noisy compass through the documents' heading low-pass and raw fixes.
+  c.mission.navigation.position_gain = 1.0;
   const core::LocalFrame f(c.mission.origin);
   c.mission.tasks[0].waypoints.push_back(f.to_geo({30.0, 0.0}));
   c.mission.tasks[0].time_limit_s = 600.0;
@@ -709,6 +719,9 @@ TEST(MissionKaboat2026, ClosedLoopThroughCourseOneAndTwo) {
 // Three slips opening west at east = 10 (entrances at north 0, 3, 6), markers 2 m inside.
 config::Configuration three_slips_config(double face_time_s) {
   config::Configuration c = base_config(config::TaskType::kDocking);
+  // Mission logic with the boat put somewhere new between ticks: the documents' raw fixes (the
+  // Kalman filter refuses such jumps by design, see nav_filter_test).
+  c.mission.navigation.position_gain = 1.0;
   const core::LocalFrame f(c.mission.origin);
   auto& t = c.mission.tasks[0];
   t.time_limit_s = 600.0;
@@ -1029,6 +1042,9 @@ TEST(MissionCourse3, AFarWallWithoutASlipIsSweptAlongOnTheRoomierSideAndTurnedBa
 // Course 3, the course's forward direction north.
 config::Configuration course3_forward_north_config() {
   config::Configuration c = base_config(config::TaskType::kDocking);
+  // Mission logic with the boat put somewhere new between ticks: the documents' raw fixes (the
+  // Kalman filter refuses such jumps by design, see nav_filter_test).
+  c.mission.navigation.position_gain = 1.0;
   c.mission.tasks[0].docking_style = config::DockingStyle::kCourse3;
   c.mission.navigation.course_zero_deg = 0.0;
   return c;

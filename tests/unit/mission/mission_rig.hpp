@@ -96,6 +96,7 @@ class Rig {
     s.value.lon_deg = g.lon_deg;
     s.value.fix_ok = usable;
     s.value.fix_type = usable ? msg::FixType::k3D : msg::FixType::kNoFix;
+    s.value.h_acc_m = gnss_h_acc_m;
     s.value.velocity_valid = gnss_velocity.has_value();
     if (gnss_velocity) {
       s.value.vel_north_mps = gnss_velocity->north_m;
@@ -257,6 +258,7 @@ class Rig {
   bool gnss_usable = true;
   std::optional<core::NavPoint> gnss_velocity;  // reported with each fix when set
   core::NavPoint gnss_bias;                     // added to every live fix (receiver error)
+  double gnss_h_acc_m = 0.1;  // the receiver's accuracy estimate (noise-free fixes here)
   bool live_lidar = true;
   bool live_arduino = true;
   bool move = false;

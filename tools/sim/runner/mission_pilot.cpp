@@ -7,7 +7,8 @@ namespace coxswain::sim::runner {
 
 MissionPilot::MissionPilot(const config::Configuration& config)
     : mission_(config.mission),
-      core_(std::make_unique<mission::MissionCore>(config.boat, config.mission)),
+      core_(std::make_unique<mission::MissionCore>(config.boat, config.mission,
+                                                   config::magnetometer_of(config.devices.imu))),
       out_(std::make_unique<mission::CoreOutput>()) {}
 
 void MissionPilot::step(const core::Snapshot& snapshot, core::TimeNs now_ns,
