@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/app/daemon.hpp"
 
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <mutex>
@@ -33,6 +37,30 @@
 
 namespace coxswain::app {
 namespace {
+
+// Real-time priority for the tick thread where permitted: the systemd unit sets
+// COXSWAIN_TICK_RT_PRIORITY (with LimitRTPRIO) and this thread asks for SCHED_FIFO at it, after
+// every other thread has started so none inherits it. Refused or unset: normal priority.
+void request_tick_priority() {
+  const char* env = std::getenv("COXSWAIN_TICK_RT_PRIORITY");
+  if (env == nullptr || *env == '\0') return;
+  char* end = nullptr;
+  const long priority = std::strtol(env, &end, 10);
+  if (*end != '\0' || priority < 1 || priority > 99) {
+    spdlog::warn("COXSWAIN_TICK_RT_PRIORITY='{}' is not 1..99: the tick runs at normal priority",
+                 env);
+    return;
+  }
+  sched_param param{};
+  param.sched_priority = static_cast<int>(priority);
+  const int rc = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &param);
+  if (rc == 0) {
+    spdlog::info("tick: real-time priority SCHED_FIFO {}", priority);
+  } else {
+    spdlog::warn("tick: real-time priority {} refused ({}): normal priority", priority,
+                 std::strerror(rc));
+  }
+}
 
 constexpr core::TimeNs kProbePeriodNs = core::kNsPerSec;
 constexpr core::TimeNs kCountersPeriodNs = 10 * core::kNsPerSec;
@@ -285,6 +313,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   notifier.ready();
   notifier.status("running: " + config.mission.name);
 
+  request_tick_priority();
   loop.run(
       [&](const TickInfo& tick) {
         store->snapshot(*snapshot);
