@@ -32,7 +32,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       std::abort();
     }
   }
-  std::string ignored;
   (void)token_matches(
       std::string_view(reinterpret_cast<const char*>(data), size / 2),
       std::string_view(reinterpret_cast<const char*>(data) + size / 2, size - size / 2));
