@@ -11,9 +11,11 @@
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "coxswain/app/core_host.hpp"
@@ -25,6 +27,7 @@
 #include "coxswain/app/serial_drivers.hpp"
 #include "coxswain/app/systemd_notify.hpp"
 #include "coxswain/app/tick_loop.hpp"
+#include "coxswain/config/input_checks.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/camera/camera_driver.hpp"
@@ -262,7 +265,18 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   // RTCM corrections for the GNSS receiver, when configured.
   std::unique_ptr<drivers::ublox::RtcmQueue> rtcm_queue;
   std::unique_ptr<drivers::ublox::RtcmSource> rtcm_source;
-  if (config.devices.gnss.enabled && !config.devices.gnss.rtcm_input.empty()) {
+  const std::string& rtcm_input = config.devices.gnss.rtcm_input;
+  const std::optional<std::string> rtcm_problem = config::validate_rtcm_input(rtcm_input);
+  if (config.devices.gnss.enabled && rtcm_problem) {
+    // Said once, with where it came from: otherwise RTK corrections are silently missing.
+    spdlog::error("devices.gnss.rtcm_input '{}' ({}): {}; no RTK corrections", rtcm_input,
+                  config.devices.file, *rtcm_problem);
+  } else if (config.devices.gnss.enabled && !rtcm_input.empty() &&
+             !rtcm_input.starts_with("tcp://") && !std::filesystem::exists(rtcm_input)) {
+    spdlog::error("devices.gnss.rtcm_input '{}' ({}): no such file or pipe; no RTK corrections",
+                  rtcm_input, config.devices.file);
+  }
+  if (config.devices.gnss.enabled && !rtcm_input.empty() && !rtcm_problem) {
     rtcm_queue = std::make_unique<drivers::ublox::RtcmQueue>();
     rtcm_source =
         std::make_unique<drivers::ublox::RtcmSource>(config.devices.gnss.rtcm_input, *rtcm_queue);
