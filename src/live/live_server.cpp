@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -106,12 +107,13 @@ struct LiveServer::Impl {
       : options(std::move(o)),
         store(s),
         clock(c),
-        unix_acceptor(ioc),
+        unix_acceptor(control_ioc),
         tcp_acceptor(ioc),
         viz_timer(ioc),
         sweep_timer(ioc),
         tcp_retry_timer(ioc),
-        unix_retry_timer(ioc),
+        unix_retry_timer(control_ioc),
+        control_sweep_timer(control_ioc),
         devices(std::make_unique<core::Snapshot>()),
         scan(std::make_unique<core::Sample<msg::LidarScan>>()) {}
 
@@ -120,12 +122,20 @@ struct LiveServer::Impl {
   core::LatestStore& store;
   const core::Clock& clock;
   asio::io_context ioc;
+  // The control socket has a thread of its own, so no flood on the network side delays the
+  // operator's `ctl hold`.
+  asio::io_context control_ioc;
+  std::thread control_thread;
   local_stream::acceptor unix_acceptor;
   tcp::acceptor tcp_acceptor;
   asio::steady_timer viz_timer;
   asio::steady_timer sweep_timer;
   asio::steady_timer tcp_retry_timer;
   asio::steady_timer unix_retry_timer;
+  asio::steady_timer control_sweep_timer;
+  // Guards operator_state, devices and the operator_input slot (whose single writer is whoever
+  // holds it): the control thread and the network thread both run commands.
+  std::mutex state_mutex;
   std::thread thread;
   std::atomic<std::uint16_t> port{0};
   bool started = false;
@@ -143,12 +153,13 @@ struct LiveServer::Impl {
   // Bounded resources (server thread).
   std::size_t max_tcp = 0;  // options.max_http_connections, lowered by the descriptor reserve
   std::size_t tcp_connections = 0;
-  std::vector<std::weak_ptr<ControlSession>> control_sessions;  // oldest first
+  std::vector<std::weak_ptr<ControlSession>> control_sessions;  // oldest first; control thread
   bool trim_memory = false;  // a client with queued data went away: give the memory back
   // One warning per kind and period however many requests are refused.
   WarningLimiter refused_limiter{std::chrono::seconds(10)};
   WarningLimiter overflow_limiter{std::chrono::seconds(10)};
   WarningLimiter accept_limiter{std::chrono::seconds(10)};
+  WarningLimiter control_accept_limiter{std::chrono::seconds(10)};  // control thread
   WarningLimiter dropped_limiter{std::chrono::seconds(10)};
 
   static void warn_limited(WarningLimiter& limiter, const std::string& text) {
@@ -189,6 +200,7 @@ struct LiveServer::Impl {
 
   // ---- commands ------------------------------------------------------------------------------
   std::string status_answer() {
+    const std::lock_guard lock(state_mutex);
     const core::TimeNs now = clock.now_ns();
     for (std::size_t i = 0; i < msg::kDeviceCount; ++i) store.health[i].read(devices->health[i]);
     core::Sample<TickSummary> summary;
@@ -202,8 +214,10 @@ struct LiveServer::Impl {
   // Runs a parsed command; returns the JSON answer line (no newline).
   std::string run_command(const ControlCommand& cmd, std::string_view via) {
     if (cmd.kind == CommandKind::kStatus) return status_answer();
-    const msg::OperatorInput& in = operator_state.apply(cmd, clock.now_ns());
-    publish_operator(in);
+    {
+      const std::lock_guard lock(state_mutex);
+      publish_operator(operator_state.apply(cmd, clock.now_ns()));
+    }
     std::string what;
     switch (cmd.kind) {
       case CommandKind::kStart:
@@ -223,7 +237,10 @@ struct LiveServer::Impl {
         break;
     }
     spdlog::info("control: {} (from {})", what, via);
-    emit_log(fox::LogLevel::kInfo, "operator: " + what + " (from " + std::string(via) + ")");
+    // The WebSocket clients belong to the network thread.
+    asio::post(ioc, [this, text = "operator: " + what + " (from " + std::string(via) + ")"] {
+      emit_log(fox::LogLevel::kInfo, text);
+    });
     json j = {{"ok", true}, {"command", what}};
     return j.dump();
   }
@@ -463,6 +480,7 @@ struct LiveServer::Impl {
   void accept_unix();
   void accept_tcp();
   void sweep();
+  void control_sweep();
 };
 
 // One client of the control socket: a line in, a line out, until it closes, idles past
@@ -877,14 +895,6 @@ void LiveServer::Impl::sweep() {
     const auto c = w.lock();
     return !c || !c->open();
   });
-  for (const auto& weak : control_sessions) {
-    const auto c = weak.lock();
-    if (c && c->open() && now - c->last_activity() > seconds(options.idle_timeout_s)) c->close();
-  }
-  std::erase_if(control_sessions, [](const std::weak_ptr<ControlSession>& w) {
-    const auto c = w.lock();
-    return !c || !c->open();
-  });
 #if defined(__GLIBC__)
   if (trim_memory) ::malloc_trim(0);  // a dropped client's queue back to the system
 #endif
@@ -895,13 +905,29 @@ void LiveServer::Impl::sweep() {
   });
 }
 
+void LiveServer::Impl::control_sweep() {
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& weak : control_sessions) {
+    const auto c = weak.lock();
+    if (c && c->open() && now - c->last_activity() > seconds(options.idle_timeout_s)) c->close();
+  }
+  std::erase_if(control_sessions, [](const std::weak_ptr<ControlSession>& w) {
+    const auto c = w.lock();
+    return !c || !c->open();
+  });
+  control_sweep_timer.expires_after(std::chrono::seconds(1));
+  control_sweep_timer.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) control_sweep();
+  });
+}
+
 void LiveServer::Impl::accept_unix() {
   unix_acceptor.async_accept([this](const boost::system::error_code& ec,
                                     local_stream::socket socket) {
     if (ec == asio::error::operation_aborted) return;
     if (ec) {
       // Out of descriptors (or another accept failure): back off instead of spinning.
-      warn_limited(accept_limiter, "live: control socket accept failed: " + ec.message());
+      warn_limited(control_accept_limiter, "live: control socket accept failed: " + ec.message());
       unix_retry_timer.expires_after(std::chrono::milliseconds(resource_exhausted(ec) ? 100 : 10));
       unix_retry_timer.async_wait([this](const boost::system::error_code& tec) {
         if (!tec) accept_unix();
@@ -1019,17 +1045,25 @@ bool LiveServer::start(std::string& error) {
     m.max_tcp = std::max<std::size_t>(1, std::min(m.max_tcp, room));
   }
   if (m.options.max_control_connections == 0) m.options.max_control_connections = 1;
-  if (m.unix_acceptor.is_open()) m.accept_unix();
+  if (m.unix_acceptor.is_open()) {
+    m.accept_unix();
+    m.control_sweep();
+  }
   if (m.tcp_acceptor.is_open()) m.accept_tcp();
   m.arm_viz_timer();
   m.sweep();
   m.started = true;
   m.thread = std::thread([&m] { m.ioc.run(); });
+  m.control_thread = std::thread([&m] { m.control_ioc.run(); });
   return true;
 }
 
 void LiveServer::stop() {
   Impl& m = *impl_;
+  if (m.control_thread.joinable()) {
+    m.control_ioc.stop();
+    m.control_thread.join();
+  }
   if (m.thread.joinable()) {
     m.ioc.stop();
     m.thread.join();

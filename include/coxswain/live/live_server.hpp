@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The daemon's local control interface and live view (issues 6 and 7), all on one thread of its
-// own (the "control thread", the single writer of LatestStore::operator_input):
+// The daemon's local control interface and live view, on two threads of their own (the control
+// socket's, so no network flood delays the operator, and the network one), which write
+// LatestStore::operator_input under one mutex:
 //  - a Unix stream socket taking line commands (see control_protocol.hpp), one answer line each;
 //  - an HTTP server (Boost.Beast) with the shore status page at GET /, GET /api/status and the
 //    token-protected POST /api/start|hold|resume|target;
