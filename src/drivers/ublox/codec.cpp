@@ -342,7 +342,8 @@ bool Decoder::used_ubx(UbxId id) {
 
 bool Decoder::emit_legacy() {
   const LegacyEpoch& e = legacy_;
-  if (!e.have_status || (!e.have_llh && !e.have_ecef)) return false;
+  // A receiver that sends NAV-PVT gets its fixes from it alone, not twice per epoch.
+  if (pvt_seen_ || !e.have_status || (!e.have_llh && !e.have_ecef)) return false;
   msg::GnssFix fix;
   fix.source = msg::GnssSource::kUbxNavLegacy;
   fix.itow_ms = e.itow_ms;
@@ -402,6 +403,7 @@ void Decoder::reset() {
   scanner_.reset();
   msg_ = Message{};
   legacy_ = LegacyEpoch{};
+  pvt_seen_ = false;
   have_date_ = false;
   have_rmc_velocity_ = false;
   rmc_tod_ms_ = -1;
@@ -443,6 +445,7 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
   if (id == UbxId{0x01, 0x07}) {
     // NAV-PVT: 92 bytes (84 on u-blox 6/7; nothing we read lies beyond 84).
     if (p.size() != 92 && p.size() != 84) return false;
+    pvt_seen_ = true;
     msg::GnssFix fix;
     fix.source = msg::GnssSource::kUbxNavPvt;
     fix.itow_ms = get_u4(p, 0);

@@ -139,7 +139,7 @@ struct Message {
 /// an epoch whose status and position are known produces the fix so far, so the last one of the
 /// epoch is complete. Position from POSLLH, else from ECEF; velocity from VELNED, else from
 /// NAV-SOL's ECEF velocity; UTC from NAV-SOL's week and iTOW less the leap seconds of the last
-/// valid NAV-TIMEGPS (18 s until one is seen).
+/// valid NAV-TIMEGPS (18 s until one is seen). Once a NAV-PVT has been seen, they give no fix.
 /// Pure: no clock, no I/O, no allocation. Not thread-safe (one owner).
 class Decoder {
  public:
@@ -201,6 +201,7 @@ class Decoder {
   [[nodiscard]] bool used_ubx(UbxId id);
   LegacyEpoch legacy_;
   std::int32_t leap_seconds_ = 18;
+  bool pvt_seen_ = false;  // since the last reset(): the older messages are then ignored
 };
 
 /// Splits a correction stream (file, pipe, NTRIP/TCP) into complete CRC-checked RTCM 3 frames,

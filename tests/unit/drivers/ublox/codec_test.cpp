@@ -534,6 +534,30 @@ TEST(UbloxDecoder, NavSolAloneGivesPositionFromEcefAndUtcFromTheWeek) {
   EXPECT_EQ(f.utc_ns, 1549505717LL * 1'000'000'000LL);
 }
 
+TEST(UbloxDecoder, OlderNavMessagesGiveNoSecondFixWhenNavPvtIsSent) {
+  std::vector<std::uint8_t> sol(52, 0);
+  test::put_le(sol, 0, 100'000, 4);
+  sol[10] = 3;
+  sol[11] = 0x0D;
+  test::put_le(sol, 12, -238'607'116, 4);
+  test::put_le(sol, 16, -392'218'940, 4);
+  test::put_le(sol, 20, 441'436'102, 4);
+  std::vector<std::uint8_t> bytes;
+  const auto pvt = test::nav_pvt_frame({});
+  bytes.insert(bytes.end(), pvt.bytes().begin(), pvt.bytes().end());
+  const auto s = ubx(0x06, sol);
+  bytes.insert(bytes.end(), s.begin(), s.end());
+  Decoder d;
+  int fixes = 0;
+  for (const auto& r : test::decode_all(d, bytes)) {
+    if (r.kind == MessageKind::kFix) {
+      ++fixes;
+      EXPECT_EQ(r.fix.source, msg::GnssSource::kUbxNavPvt);
+    }
+  }
+  EXPECT_EQ(fixes, 1);
+}
+
 TEST(UbloxDecoder, MalformedOlderNavMessageIsAFramingError) {
   Decoder d;
   const auto out = test::decode_all(d, ubx(0x06, std::vector<std::uint8_t>(51, 0)));
