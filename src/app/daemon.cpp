@@ -1,15 +1,21 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/app/daemon.hpp"
 
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "coxswain/app/core_host.hpp"
@@ -21,6 +27,7 @@
 #include "coxswain/app/serial_drivers.hpp"
 #include "coxswain/app/systemd_notify.hpp"
 #include "coxswain/app/tick_loop.hpp"
+#include "coxswain/config/input_checks.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/camera/camera_driver.hpp"
@@ -33,6 +40,30 @@
 
 namespace coxswain::app {
 namespace {
+
+// Real-time priority for the tick thread where permitted: the systemd unit sets
+// COXSWAIN_TICK_RT_PRIORITY (with LimitRTPRIO) and this thread asks for SCHED_FIFO at it, after
+// every other thread has started so none inherits it. Refused or unset: normal priority.
+void request_tick_priority() {
+  const char* env = std::getenv("COXSWAIN_TICK_RT_PRIORITY");
+  if (env == nullptr || *env == '\0') return;
+  char* end = nullptr;
+  const long priority = std::strtol(env, &end, 10);
+  if (*end != '\0' || priority < 1 || priority > 99) {
+    spdlog::warn("COXSWAIN_TICK_RT_PRIORITY='{}' is not 1..99: the tick runs at normal priority",
+                 env);
+    return;
+  }
+  sched_param param{};
+  param.sched_priority = static_cast<int>(priority);
+  const int rc = ::pthread_setschedparam(::pthread_self(), SCHED_FIFO, &param);
+  if (rc == 0) {
+    spdlog::info("tick: real-time priority SCHED_FIFO {}", priority);
+  } else {
+    spdlog::warn("tick: real-time priority {} refused ({}): normal priority", priority,
+                 std::strerror(rc));
+  }
+}
 
 constexpr core::TimeNs kProbePeriodNs = core::kNsPerSec;
 constexpr core::TimeNs kCountersPeriodNs = 10 * core::kNsPerSec;
@@ -235,7 +266,18 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   // RTCM corrections for the GNSS receiver, when configured.
   std::unique_ptr<drivers::ublox::RtcmQueue> rtcm_queue;
   std::unique_ptr<drivers::ublox::RtcmSource> rtcm_source;
-  if (config.devices.gnss.enabled && !config.devices.gnss.rtcm_input.empty()) {
+  const std::string& rtcm_input = config.devices.gnss.rtcm_input;
+  const std::optional<std::string> rtcm_problem = config::validate_rtcm_input(rtcm_input);
+  if (config.devices.gnss.enabled && rtcm_problem) {
+    // Said once, with where it came from: otherwise RTK corrections are silently missing.
+    spdlog::error("devices.gnss.rtcm_input '{}' ({}): {}; no RTK corrections", rtcm_input,
+                  config.devices.file, *rtcm_problem);
+  } else if (config.devices.gnss.enabled && !rtcm_input.empty() &&
+             !rtcm_input.starts_with("tcp://") && !std::filesystem::exists(rtcm_input)) {
+    spdlog::error("devices.gnss.rtcm_input '{}' ({}): no such file or pipe; no RTK corrections",
+                  rtcm_input, config.devices.file);
+  }
+  if (config.devices.gnss.enabled && !rtcm_input.empty() && !rtcm_problem) {
     rtcm_queue = std::make_unique<drivers::ublox::RtcmQueue>();
     rtcm_source =
         std::make_unique<drivers::ublox::RtcmSource>(config.devices.gnss.rtcm_input, *rtcm_queue);
@@ -286,6 +328,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   notifier.ready();
   notifier.status("running: " + config.mission.name);
 
+  request_tick_priority();
   loop.run(
       [&](const TickInfo& tick) {
         store->snapshot(*snapshot);

@@ -78,6 +78,8 @@ const char* gnss_source_name(msg::GnssSource s) {
       return "nmea_rmc";
     case msg::GnssSource::kNmeaGll:
       return "nmea_gll";
+    case msg::GnssSource::kUbxNavLegacy:
+      return "ubx_nav_legacy";
   }
   return "unknown";
 }

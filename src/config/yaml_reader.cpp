@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 namespace coxswain::config {
 
@@ -122,10 +123,60 @@ void MapReader::finish() {
   }
 }
 
-std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors) {
+namespace {
+
+// Duplicate keys anywhere below `node` (yaml-cpp keeps both pairs and answers lookups with the
+// first, so a second `baud:` would be silently ignored).
+void check_duplicate_keys(const YAML::Node& node, const std::string& path, ConfigErrors& errors,
+                          int depth) {
+  if (depth > 256) return;  // yaml-cpp refuses deeper documents itself
+  if (node.IsMap()) {
+    std::map<std::string, int, std::less<>> first_line;
+    for (const auto& kv : node) {
+      if (kv.first.IsScalar()) {
+        const int line = kv.first.Mark().line + 1;
+        const auto [it, inserted] = first_line.emplace(kv.first.Scalar(), line);
+        if (!inserted) {
+          errors.add({path, line, kv.first.Scalar(),
+                      "is a duplicate key (first at line " + std::to_string(it->second) + ")"});
+        }
+      }
+      check_duplicate_keys(kv.second, path, errors, depth + 1);
+    }
+  } else if (node.IsSequence()) {
+    for (const auto& item : node) check_duplicate_keys(item, path, errors, depth + 1);
+  }
+}
+
+}  // namespace
+
+bool is_decimal_integer(std::string_view text) {
+  std::size_t i = 0;
+  if (!text.empty() && (text[0] == '-' || text[0] == '+')) i = 1;
+  if (i >= text.size()) return false;
+  if (text[i] == '0' && text.size() > i + 1) return false;  // 0115200 is not octal here
+  for (; i < text.size(); ++i) {
+    if (text[i] < '0' || text[i] > '9') return false;
+  }
+  return true;
+}
+
+std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors,
+                                         std::uintmax_t max_bytes) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     errors.add({path, 0, "", "cannot be read: no such file"});
+    return std::nullopt;
+  }
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) {
+    errors.add({path, 0, "", "cannot be read: " + ec.message()});
+    return std::nullopt;
+  }
+  if (size > max_bytes) {
+    errors.add({path, 0, "",
+                "is " + std::to_string(size) + " bytes, more than the " +
+                    std::to_string(max_bytes) + " a config file may have"});
     return std::nullopt;
   }
   std::ifstream in(path);
@@ -133,12 +184,28 @@ std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& 
     errors.add({path, 0, "", "cannot be opened for reading"});
     return std::nullopt;
   }
+  std::vector<YAML::Node> docs;
   try {
-    return YAML::Load(in);
-  } catch (const YAML::ParserException& e) {
+    docs = YAML::LoadAll(in);
+  } catch (const YAML::Exception& e) {
     errors.add({path, e.mark.line + 1, "", "YAML syntax error: " + e.msg});
     return std::nullopt;
   }
+  if (docs.empty() || (docs.size() == 1 && docs[0].IsNull())) {
+    errors.add({path, 0, "", "is empty: one YAML document (a map) is expected"});
+    return std::nullopt;
+  }
+  if (docs.size() > 1) {
+    const int line = docs[1].Mark().line;
+    errors.add({path, line >= 0 ? line + 1 : 0, "",
+                "holds " + std::to_string(docs.size()) +
+                    " YAML documents; exactly one is expected (a second '---' or '...')"});
+    return std::nullopt;
+  }
+  const std::size_t before = errors.size();
+  check_duplicate_keys(docs[0], path, errors, 0);
+  if (errors.size() != before) return std::nullopt;
+  return docs[0];
 }
 
 }  // namespace coxswain::config

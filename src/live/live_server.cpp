@@ -2,9 +2,11 @@
 #include "coxswain/live/live_server.hpp"
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/un.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <boost/asio.hpp>
@@ -14,6 +16,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -21,6 +24,11 @@
 #include <utility>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+#include "coxswain/live/request_guard.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
 #include "status_page.hpp"
@@ -68,6 +76,26 @@ std::string message_data(std::uint32_t subscription_id, core::TimeNs stamp_ns,
   return frame;
 }
 
+std::chrono::steady_clock::duration seconds(double s) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(s));
+}
+
+bool is_loopback(const asio::ip::address& a) {
+  if (a.is_v6() && a.to_v6().is_v4_mapped()) {
+    return asio::ip::make_address_v4(asio::ip::v4_mapped, a.to_v6()).is_loopback();
+  }
+  return a.is_loopback();
+}
+
+// Accept errors that mean "out of descriptors or memory": wait before the next try rather than
+// spin on a backlog that cannot be taken.
+bool resource_exhausted(const boost::system::error_code& ec) {
+  return ec == boost::system::errc::too_many_files_open ||
+         ec == boost::system::errc::too_many_files_open_in_system ||
+         ec == boost::system::errc::no_buffer_space || ec == boost::system::errc::not_enough_memory;
+}
+
 }  // namespace
 
 struct LiveServer::Impl {
@@ -79,9 +107,13 @@ struct LiveServer::Impl {
       : options(std::move(o)),
         store(s),
         clock(c),
-        unix_acceptor(ioc),
+        unix_acceptor(control_ioc),
         tcp_acceptor(ioc),
         viz_timer(ioc),
+        sweep_timer(ioc),
+        tcp_retry_timer(ioc),
+        unix_retry_timer(control_ioc),
+        control_sweep_timer(control_ioc),
         devices(std::make_unique<core::Snapshot>()),
         scan(std::make_unique<core::Sample<msg::LidarScan>>()) {}
 
@@ -90,9 +122,20 @@ struct LiveServer::Impl {
   core::LatestStore& store;
   const core::Clock& clock;
   asio::io_context ioc;
+  // The control socket has a thread of its own, so no flood on the network side delays the
+  // operator's `ctl hold`.
+  asio::io_context control_ioc;
+  std::thread control_thread;
   local_stream::acceptor unix_acceptor;
   tcp::acceptor tcp_acceptor;
   asio::steady_timer viz_timer;
+  asio::steady_timer sweep_timer;
+  asio::steady_timer tcp_retry_timer;
+  asio::steady_timer unix_retry_timer;
+  asio::steady_timer control_sweep_timer;
+  // Guards operator_state, devices and the operator_input slot (whose single writer is whoever
+  // holds it): the control thread and the network thread both run commands.
+  std::mutex state_mutex;
   std::thread thread;
   std::atomic<std::uint16_t> port{0};
   bool started = false;
@@ -107,6 +150,44 @@ struct LiveServer::Impl {
   std::uint64_t sent_fix_seq = 0;
   std::optional<mission::TunableParameters> pending;  // latest requested set
 
+  // Bounded resources (server thread).
+  std::size_t max_tcp = 0;  // options.max_http_connections, lowered by the descriptor reserve
+  std::size_t tcp_connections = 0;
+  std::vector<std::weak_ptr<ControlSession>> control_sessions;  // oldest first; control thread
+  bool trim_memory = false;  // a client with queued data went away: give the memory back
+  // One warning per kind and period however many requests are refused.
+  WarningLimiter refused_limiter{std::chrono::seconds(10)};
+  WarningLimiter overflow_limiter{std::chrono::seconds(10)};
+  WarningLimiter accept_limiter{std::chrono::seconds(10)};
+  WarningLimiter control_accept_limiter{std::chrono::seconds(10)};  // control thread
+  WarningLimiter dropped_limiter{std::chrono::seconds(10)};
+
+  static void warn_limited(WarningLimiter& limiter, const std::string& text) {
+    std::uint64_t suppressed = 0;
+    if (!limiter.allow(WarningLimiter::Clock::now(), suppressed)) return;
+    if (suppressed == 0) {
+      spdlog::warn("{}", text);
+    } else {
+      spdlog::warn("{} ({} more like it not logged)", text, suppressed);
+    }
+  }
+
+  // Holds one of the max_tcp places for as long as a connection (HTTP, then WebSocket) lives.
+  class TcpSlot {
+   public:
+    explicit TcpSlot(Impl& impl) : impl_(&impl) { ++impl_->tcp_connections; }
+    ~TcpSlot() {
+      if (impl_ != nullptr) --impl_->tcp_connections;
+    }
+    TcpSlot(TcpSlot&& o) noexcept : impl_(std::exchange(o.impl_, nullptr)) {}
+    TcpSlot& operator=(TcpSlot&&) = delete;
+    TcpSlot(const TcpSlot&) = delete;
+    TcpSlot& operator=(const TcpSlot&) = delete;
+
+   private:
+    Impl* impl_;
+  };
+
   // Cross-thread slots (writer named per slot).
   core::LatestSlot<LiveTick> tick_slot;                         // tick thread
   core::LatestSlot<mission::TunableParameters> in_force_slot;   // tick thread
@@ -119,6 +200,7 @@ struct LiveServer::Impl {
 
   // ---- commands ------------------------------------------------------------------------------
   std::string status_answer() {
+    const std::lock_guard lock(state_mutex);
     const core::TimeNs now = clock.now_ns();
     for (std::size_t i = 0; i < msg::kDeviceCount; ++i) store.health[i].read(devices->health[i]);
     core::Sample<TickSummary> summary;
@@ -132,8 +214,10 @@ struct LiveServer::Impl {
   // Runs a parsed command; returns the JSON answer line (no newline).
   std::string run_command(const ControlCommand& cmd, std::string_view via) {
     if (cmd.kind == CommandKind::kStatus) return status_answer();
-    const msg::OperatorInput& in = operator_state.apply(cmd, clock.now_ns());
-    publish_operator(in);
+    {
+      const std::lock_guard lock(state_mutex);
+      publish_operator(operator_state.apply(cmd, clock.now_ns()));
+    }
     std::string what;
     switch (cmd.kind) {
       case CommandKind::kStart:
@@ -153,7 +237,10 @@ struct LiveServer::Impl {
         break;
     }
     spdlog::info("control: {} (from {})", what, via);
-    emit_log(fox::LogLevel::kInfo, "operator: " + what + " (from " + std::string(via) + ")");
+    // The WebSocket clients belong to the network thread.
+    asio::post(ioc, [this, text = "operator: " + what + " (from " + std::string(via) + ")"] {
+      emit_log(fox::LogLevel::kInfo, text);
+    });
     json j = {{"ok", true}, {"command", what}};
     return j.dump();
   }
@@ -168,7 +255,72 @@ struct LiveServer::Impl {
   }
 
   // ---- HTTP ----------------------------------------------------------------------------------
-  http::response<http::string_body> handle_http(const http::request<http::string_body>& req) {
+  // Why a request may not be served at all (wrong Host or Origin, or viewing from another
+  // machine without the token); nullopt when it may.
+  std::optional<std::pair<http::status, std::string>> refusal(
+      const http::request<http::string_body>& req, bool loopback_peer) {
+    const auto host_it = req.find(http::field::host);
+    const std::string_view host =
+        host_it == req.end() ? std::string_view()
+                             : std::string_view(host_it->value().data(), host_it->value().size());
+    const auto origin_it = req.find(http::field::origin);
+    const std::optional<std::string_view> origin =
+        origin_it == req.end() ? std::nullopt
+                               : std::optional<std::string_view>(std::string_view(
+                                     origin_it->value().data(), origin_it->value().size()));
+    if (!host_allowed(host, options.allowed_hosts)) {
+      return std::make_pair(http::status::forbidden,
+                            "Host '" + std::string(host.substr(0, 100)) +
+                                "' does not name this server (live.allowed_hosts)");
+    }
+    if (!origin_allowed(origin, host, options.allowed_origins)) {
+      return std::make_pair(http::status::forbidden,
+                            "Origin '" + std::string(origin->substr(0, 100)) +
+                                "' may not use this server (live.allowed_origins)");
+    }
+    const std::string_view target(req.target().data(), req.target().size());
+    const std::string_view path = path_of(target);
+    if (!loopback_peer && path != "/" && path != "/index.html" &&
+        !token_matches(options.token, presented_token(req))) {
+      return std::make_pair(http::status::unauthorized,
+                            options.token.empty()
+                                ? std::string("no token is configured: only this computer may "
+                                              "view the live data")
+                                : std::string("from another machine the live view needs the token "
+                                              "(X-Coxswain-Token or ?token=)"));
+    }
+    return std::nullopt;
+  }
+
+  // The token a request carries: the X-Coxswain-Token header, else `?token=` (a Foxglove
+  // client can only put it in the URL).
+  static std::string_view presented_token(const http::request<http::string_body>& req) {
+    const auto it = req.find("X-Coxswain-Token");
+    if (it != req.end()) return {it->value().data(), it->value().size()};
+    const std::string_view target(req.target().data(), req.target().size());
+    return query_token(target).value_or(std::string_view());
+  }
+
+  void refused(std::string_view what, std::string_view why, const std::string& peer) {
+    warn_limited(refused_limiter,
+                 "live: refused " + std::string(what) + " from " + peer + ": " + std::string(why));
+  }
+
+  http::response<http::string_body> error_response(const http::request<http::string_body>& req,
+                                                   http::status status, std::string_view text) {
+    http::response<http::string_body> res{status, req.version()};
+    res.set(http::field::server, "coxswain");
+    res.set(http::field::cache_control, "no-store");
+    res.set(http::field::content_type, "application/json");
+    res.keep_alive(false);
+    res.body() =
+        json{{"ok", false}, {"error", text}}.dump(-1, ' ', false, json::error_handler_t::replace);
+    res.prepare_payload();
+    return res;
+  }
+
+  http::response<http::string_body> handle_http(const http::request<http::string_body>& req,
+                                                const std::string& peer) {
     http::response<http::string_body> res;
     res.version(req.version());
     res.keep_alive(req.keep_alive());
@@ -186,7 +338,8 @@ struct LiveServer::Impl {
                    json{{"ok", false}, {"error", text}}.dump(-1, ' ', false,
                                                              json::error_handler_t::replace));
     };
-    const std::string_view target(req.target().data(), req.target().size());
+    const std::string_view target =
+        path_of(std::string_view(req.target().data(), req.target().size()));
     if (target == "/" || target == "/index.html") {
       if (req.method() != http::verb::get) return error(http::status::method_not_allowed, "GET");
       return reply(http::status::ok, "text/html; charset=utf-8", std::string(kStatusPageHtml));
@@ -208,7 +361,7 @@ struct LiveServer::Impl {
             ? std::string_view()
             : std::string_view(token_it->value().data(), token_it->value().size());
     if (!token_matches(options.token, presented)) {
-      spdlog::warn("control: refused an HTTP {} without a valid token", target);
+      refused("POST " + std::string(target), "no valid token", peer);
       return error(http::status::unauthorized,
                    options.token.empty() ? "no token is configured: the buttons are disabled"
                                          : "bad or missing X-Coxswain-Token");
@@ -326,22 +479,40 @@ struct LiveServer::Impl {
   }
   void accept_unix();
   void accept_tcp();
+  void sweep();
+  void control_sweep();
 };
 
-// One client of the control socket: a line in, a line out, until it closes.
+// One client of the control socket: a line in, a line out, until it closes, idles past
+// idle_timeout_s, or gives way to a newer client when max_control_connections are open.
 class LiveServer::Impl::ControlSession : public std::enable_shared_from_this<ControlSession> {
  public:
   ControlSession(local_stream::socket socket, Impl& impl)
-      : socket_(std::move(socket)), buffer_(kMaxLineBytes), impl_(impl) {}
+      : socket_(std::move(socket)),
+        buffer_(kMaxLineBytes),
+        impl_(impl),
+        last_activity_(std::chrono::steady_clock::now()) {}
   void read() {
     asio::async_read_until(socket_, buffer_, '\n',
                            [self = shared_from_this()](const boost::system::error_code& ec,
                                                        std::size_t n) { self->on_line(ec, n); });
   }
+  void close() {
+    boost::system::error_code ignored;
+    socket_.close(ignored);
+  }
+  [[nodiscard]] bool open() const { return socket_.is_open(); }
+  [[nodiscard]] std::chrono::steady_clock::time_point last_activity() const {
+    return last_activity_;
+  }
 
  private:
   void on_line(const boost::system::error_code& ec, std::size_t n) {
-    if (ec) return;  // closed, or a line longer than kMaxLineBytes
+    if (ec) {  // closed, or a line longer than kMaxLineBytes
+      close();
+      return;
+    }
+    last_activity_ = std::chrono::steady_clock::now();
     std::string line(asio::buffers_begin(buffer_.data()),
                      asio::buffers_begin(buffer_.data()) + static_cast<std::ptrdiff_t>(n - 1));
     buffer_.consume(n);
@@ -349,30 +520,49 @@ class LiveServer::Impl::ControlSession : public std::enable_shared_from_this<Con
     asio::async_write(
         socket_, asio::buffer(answer_),
         [self = shared_from_this()](const boost::system::error_code& wec, std::size_t) {
-          if (!wec) self->read();
+          self->last_activity_ = std::chrono::steady_clock::now();
+          if (wec) {
+            self->close();
+            return;
+          }
+          self->read();
         });
   }
   local_stream::socket socket_;
   asio::streambuf buffer_;
   std::string answer_;
   Impl& impl_;
+  std::chrono::steady_clock::time_point last_activity_;
 };
 
 // One Foxglove WebSocket client.
 class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket socket, Impl& impl) : ws_(std::move(socket)), impl_(impl) {}
+  WsSession(tcp::socket socket, Impl& impl, TcpSlot slot, bool may_control, std::string peer)
+      : ws_(std::move(socket)),
+        impl_(impl),
+        slot_(std::move(slot)),
+        may_control_(may_control),
+        peer_(std::move(peer)),
+        last_request_(std::chrono::steady_clock::now()) {}
 
   void run(http::request<http::string_body> req) {
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    websocket::stream_base::timeout timeout{};
+    timeout.handshake_timeout = seconds(impl_.options.header_timeout_s);
+    timeout.idle_timeout = websocket::stream_base::none();  // see LiveServer::Impl::sweep
+    timeout.keep_alive_pings = false;
+    ws_.set_option(timeout);
     ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& res) {
       res.set(http::field::sec_websocket_protocol,
               beast::string_view(kSubprotocol.data(), kSubprotocol.size()));
       res.set(http::field::server, "coxswain");
     }));
-    ws_.read_message_max(1 << 20);
+    ws_.read_message_max(impl_.options.max_ws_message_bytes);
     ws_.async_accept(req, [self = shared_from_this()](const boost::system::error_code& ec) {
-      if (ec) return;
+      if (ec) {
+        self->close();
+        return;
+      }
       self->impl_.clients.push_back(self);
       self->send(server_info(), false);
       self->send(advertise(), false);
@@ -395,11 +585,53 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
     return false;
   }
 
+  // Visualization frames (binary) are dropped for a client that is behind; a reply (text) that
+  // does not fit in its queue drops the client, which is not reading what it asks for.
   void send(std::string data, bool binary) {
     if (!open_) return;
-    if (binary && queue_.size() >= kMaxQueuedFrames) return;  // slow client: drop viz frames
+    const std::size_t limit = impl_.options.max_client_queue_bytes;
+    if (queued_bytes_ + data.size() > limit || (binary && queue_.size() >= kMaxQueuedFrames)) {
+      if (binary) return;
+      impl_.warn_limited(impl_.overflow_limiter, "live: dropped WebSocket client " + peer_ +
+                                                     ": it does not read its "
+                                                     "replies (" +
+                                                     std::to_string(queued_bytes_) +
+                                                     " bytes queued)");
+      close();
+      return;
+    }
+    queued_bytes_ += data.size();
     queue_.push_back({std::move(data), binary});
     if (!writing_) write_next();
+  }
+
+  // Closes the connection: pending operations end with an error and release the session.
+  void close() {
+    if (!open_ && !beast::get_lowest_layer(ws_).socket().is_open()) return;
+    open_ = false;
+    if (queued_bytes_ > 0) impl_.trim_memory = true;
+    // The front element may be in an async_write; the rest can go now.
+    while (queue_.size() > (writing_ ? 1U : 0U)) {
+      queued_bytes_ -= queue_.back().data.size();
+      queue_.pop_back();
+    }
+    boost::system::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    beast::get_lowest_layer(ws_).socket().close(ignored);
+  }
+
+  // Called about once a second: drops an idle client (no subscription, no request: pings do not
+  // count) and one that stopped taking data.
+  void sweep(std::chrono::steady_clock::time_point now) {
+    if (!open_) return;
+    if (writing_ && now - write_started_ > seconds(impl_.options.write_stall_timeout_s)) {
+      impl_.warn_limited(impl_.dropped_limiter,
+                         "live: dropped WebSocket client " + peer_ + ": not reading");
+      close();
+    } else if (subs_.empty() && now - last_request_ > seconds(impl_.options.idle_timeout_s)) {
+      impl_.warn_limited(impl_.dropped_limiter, "live: closed idle WebSocket client " + peer_);
+      close();
+    }
   }
 
  private:
@@ -409,32 +641,32 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
   };
   void write_next() {
     writing_ = true;
+    write_started_ = std::chrono::steady_clock::now();
     ws_.binary(queue_.front().binary);
     ws_.async_write(asio::buffer(queue_.front().data),
                     [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
+                      self->queued_bytes_ -= self->queue_.front().data.size();
                       self->queue_.pop_front();
+                      self->writing_ = false;
                       if (ec) {
-                        self->open_ = false;
+                        self->close();
                         return;
                       }
-                      if (self->queue_.empty()) {
-                        self->writing_ = false;
-                      } else {
-                        self->write_next();
-                      }
+                      if (!self->queue_.empty() && self->open_) self->write_next();
                     });
   }
   void read() {
     ws_.async_read(buffer_,
                    [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
                      if (ec) {
-                       self->open_ = false;
+                       self->close();
                        return;
                      }
+                     self->last_request_ = std::chrono::steady_clock::now();
                      if (self->ws_.got_text())
                        self->on_text(beast::buffers_to_string(self->buffer_.data()));
                      self->buffer_.consume(self->buffer_.size());
-                     self->read();
+                     if (self->open_) self->read();
                    });
   }
   void on_text(const std::string& text) {
@@ -447,8 +679,8 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
     const json id = msg.contains("id") ? msg["id"] : json();
     if (op == "subscribe" && msg.contains("subscriptions") && msg["subscriptions"].is_array()) {
       for (const json& s : msg["subscriptions"]) {
-        if (!s.contains("id") || !s.contains("channelId") || !s["id"].is_number_unsigned() ||
-            !s["channelId"].is_number_unsigned()) {
+        if (!s.is_object() || !s.contains("id") || !s.contains("channelId") ||
+            !s["id"].is_number_unsigned() || !s["channelId"].is_number_unsigned()) {
           continue;
         }
         const auto ch = s["channelId"].get<std::uint32_t>();
@@ -457,6 +689,10 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
         if (!known) {
           send(status_op(1, "no channel " + std::to_string(ch), json()).dump(), false);
           continue;
+        }
+        if (subs_.size() >= kMaxSubscriptions) {
+          send(status_op(1, "too many subscriptions", json()).dump(), false);
+          break;
         }
         subs_.emplace_back(s["id"].get<std::uint32_t>(), ch);
       }
@@ -474,14 +710,26 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
           if (n.is_string()) names.push_back(n.get<std::string>());
         }
       }
-      send(impl_.parameter_values(names, id).dump(), false);
+      send(impl_.parameter_values(names, id).dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
     } else if (op == "setParameters" && msg.contains("parameters") &&
                msg["parameters"].is_array()) {
+      if (!may_control_) {
+        const std::string why = impl_.options.token.empty()
+                                    ? "no token is configured: live tuning is disabled"
+                                    : "setParameters needs the token: connect to "
+                                      "ws://HOST:PORT/?token=...";
+        impl_.refused("setParameters", why, peer_);
+        send(status_op(2, why, id).dump(-1, ' ', false, json::error_handler_t::replace), false);
+        return;
+      }
       std::vector<std::string> names;
       for (const json& problem : impl_.set_parameters(msg["parameters"], id, names)) {
         send(problem.dump(-1, ' ', false, json::error_handler_t::replace), false);
       }
-      if (!id.is_null()) send(impl_.parameter_values(names, id).dump(), false);
+      if (!id.is_null())
+        send(impl_.parameter_values(names, id).dump(-1, ' ', false, json::error_handler_t::replace),
+             false);
     } else {
       send(status_op(1, "unsupported op '" + op + "'", json())
                .dump(-1, ' ', false, json::error_handler_t::replace),
@@ -489,23 +737,40 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
     }
   }
 
+  static constexpr std::size_t kMaxSubscriptions = 64;
   websocket::stream<beast::tcp_stream> ws_;
   beast::flat_buffer buffer_;
   std::deque<Out> queue_;
+  std::size_t queued_bytes_ = 0;
   bool writing_ = false;
   bool open_ = true;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> subs_;  // subscription id, channel id
   Impl& impl_;
+  TcpSlot slot_;
+  bool may_control_;
+  std::string peer_;
+  std::chrono::steady_clock::time_point last_request_;
+  std::chrono::steady_clock::time_point write_started_;
 };
 
-// One HTTP connection; hands itself over to a WsSession on an upgrade request.
+// One HTTP connection; hands itself over to a WsSession on an upgrade request. Each request
+// (header and body) must arrive within header_timeout_s, and so must the next one on a kept-alive
+// connection.
 class LiveServer::Impl::HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(tcp::socket socket, Impl& impl) : stream_(std::move(socket)), impl_(impl) {}
+  HttpSession(tcp::socket socket, Impl& impl, TcpSlot slot)
+      : stream_(std::move(socket)), impl_(impl), slot_(std::move(slot)) {
+    boost::system::error_code ec;
+    const tcp::endpoint remote = stream_.socket().remote_endpoint(ec);
+    loopback_ = !ec && is_loopback(remote.address());
+    peer_ =
+        ec ? std::string("?") : remote.address().to_string() + ":" + std::to_string(remote.port());
+  }
   void read() {
     parser_.emplace();
+    parser_->header_limit(kMaxHeaderBytes);
     parser_->body_limit(kMaxBodyBytes);
-    stream_.expires_after(std::chrono::seconds(60));
+    stream_.expires_after(seconds(impl_.options.header_timeout_s));
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](const boost::system::error_code& ec, std::size_t) {
                        self->on_read(ec);
@@ -515,12 +780,27 @@ class LiveServer::Impl::HttpSession : public std::enable_shared_from_this<HttpSe
  private:
   void on_read(const boost::system::error_code& ec) {
     if (ec) return;
-    if (websocket::is_upgrade(parser_->get())) {
-      stream_.expires_never();
-      std::make_shared<WsSession>(stream_.release_socket(), impl_)->run(parser_->release());
+    const http::request<http::string_body>& req = parser_->get();
+    const bool upgrade = websocket::is_upgrade(req);
+    if (const auto why = impl_.refusal(req, loopback_)) {
+      impl_.refused(upgrade ? "a WebSocket" : "an HTTP request", why->second, peer_);
+      response_ = impl_.error_response(req, why->first, why->second);
+      write();
       return;
     }
-    response_ = impl_.handle_http(parser_->get());
+    if (upgrade) {
+      stream_.expires_never();
+      const bool may_control = token_matches(impl_.options.token, presented_token(req));
+      std::make_shared<WsSession>(stream_.release_socket(), impl_, std::move(slot_), may_control,
+                                  peer_)
+          ->run(parser_->release());
+      return;
+    }
+    response_ = impl_.handle_http(req, peer_);
+    write();
+  }
+  void write() {
+    stream_.expires_after(seconds(impl_.options.write_stall_timeout_s));
     http::async_write(
         stream_, response_,
         [self = shared_from_this()](const boost::system::error_code& wec, std::size_t) {
@@ -533,11 +813,15 @@ class LiveServer::Impl::HttpSession : public std::enable_shared_from_this<HttpSe
           }
         });
   }
+  static constexpr std::uint32_t kMaxHeaderBytes = 8192;
   beast::tcp_stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   http::response<http::string_body> response_;
   Impl& impl_;
+  TcpSlot slot_;
+  bool loopback_ = false;
+  std::string peer_;
 };
 
 void LiveServer::Impl::emit_log(fox::LogLevel level, const std::string& text) {
@@ -602,19 +886,93 @@ void LiveServer::Impl::on_viz_timer() {
   arm_viz_timer();
 }
 
+void LiveServer::Impl::sweep() {
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& weak : clients) {
+    if (const auto c = weak.lock()) c->sweep(now);
+  }
+  std::erase_if(clients, [](const std::weak_ptr<WsSession>& w) {
+    const auto c = w.lock();
+    return !c || !c->open();
+  });
+#if defined(__GLIBC__)
+  if (trim_memory) ::malloc_trim(0);  // a dropped client's queue back to the system
+#endif
+  trim_memory = false;
+  sweep_timer.expires_after(std::chrono::seconds(1));
+  sweep_timer.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) sweep();
+  });
+}
+
+void LiveServer::Impl::control_sweep() {
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& weak : control_sessions) {
+    const auto c = weak.lock();
+    if (c && c->open() && now - c->last_activity() > seconds(options.idle_timeout_s)) c->close();
+  }
+  std::erase_if(control_sessions, [](const std::weak_ptr<ControlSession>& w) {
+    const auto c = w.lock();
+    return !c || !c->open();
+  });
+  control_sweep_timer.expires_after(std::chrono::seconds(1));
+  control_sweep_timer.async_wait([this](const boost::system::error_code& ec) {
+    if (!ec) control_sweep();
+  });
+}
+
 void LiveServer::Impl::accept_unix() {
-  unix_acceptor.async_accept(
-      [this](const boost::system::error_code& ec, local_stream::socket socket) {
-        if (ec == asio::error::operation_aborted) return;
-        if (!ec) std::make_shared<ControlSession>(std::move(socket), *this)->read();
-        accept_unix();
+  unix_acceptor.async_accept([this](const boost::system::error_code& ec,
+                                    local_stream::socket socket) {
+    if (ec == asio::error::operation_aborted) return;
+    if (ec) {
+      // Out of descriptors (or another accept failure): back off instead of spinning.
+      warn_limited(control_accept_limiter, "live: control socket accept failed: " + ec.message());
+      unix_retry_timer.expires_after(std::chrono::milliseconds(resource_exhausted(ec) ? 100 : 10));
+      unix_retry_timer.async_wait([this](const boost::system::error_code& tec) {
+        if (!tec) accept_unix();
       });
+      return;
+    }
+    // The operator's `ctl hold` always gets in: the oldest connection gives way.
+    std::erase_if(control_sessions, [](const std::weak_ptr<ControlSession>& w) {
+      const auto c = w.lock();
+      return !c || !c->open();
+    });
+    while (!control_sessions.empty() &&
+           control_sessions.size() >= options.max_control_connections) {
+      if (const auto oldest = control_sessions.front().lock()) oldest->close();
+      control_sessions.erase(control_sessions.begin());
+    }
+    auto session = std::make_shared<ControlSession>(std::move(socket), *this);
+    control_sessions.push_back(session);
+    session->read();
+    accept_unix();
+  });
 }
 
 void LiveServer::Impl::accept_tcp() {
   tcp_acceptor.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
     if (ec == asio::error::operation_aborted) return;
-    if (!ec) std::make_shared<HttpSession>(std::move(socket), *this)->read();
+    if (ec) {
+      warn_limited(accept_limiter, "live: HTTP accept failed: " + ec.message());
+      tcp_retry_timer.expires_after(std::chrono::milliseconds(resource_exhausted(ec) ? 100 : 10));
+      tcp_retry_timer.async_wait([this](const boost::system::error_code& tec) {
+        if (!tec) accept_tcp();
+      });
+      return;
+    }
+    if (tcp_connections >= max_tcp) {
+      // Closed at once: the descriptor goes back, the backlog keeps draining.
+      boost::system::error_code ignored;
+      const tcp::endpoint remote = socket.remote_endpoint(ignored);
+      warn_limited(refused_limiter, "live: refused a connection from " +
+                                        remote.address().to_string() + ": " +
+                                        std::to_string(max_tcp) + " connections are open");
+      socket.close(ignored);
+    } else {
+      std::make_shared<HttpSession>(std::move(socket), *this, TcpSlot(*this))->read();
+    }
     accept_tcp();
   });
 }
@@ -679,16 +1037,33 @@ bool LiveServer::start(std::string& error) {
         {CommandKind::kTarget, m.options.initial_target_colour, m.options.initial_target_shape},
         m.clock.now_ns()));
   }
-  if (m.unix_acceptor.is_open()) m.accept_unix();
+  m.max_tcp = m.options.max_http_connections;
+  rlimit nofile{};
+  if (::getrlimit(RLIMIT_NOFILE, &nofile) == 0 && nofile.rlim_cur != RLIM_INFINITY) {
+    const std::size_t cur = nofile.rlim_cur;
+    const std::size_t room = cur > m.options.fd_reserve ? (cur - m.options.fd_reserve) / 2 : 0;
+    m.max_tcp = std::max<std::size_t>(1, std::min(m.max_tcp, room));
+  }
+  if (m.options.max_control_connections == 0) m.options.max_control_connections = 1;
+  if (m.unix_acceptor.is_open()) {
+    m.accept_unix();
+    m.control_sweep();
+  }
   if (m.tcp_acceptor.is_open()) m.accept_tcp();
   m.arm_viz_timer();
+  m.sweep();
   m.started = true;
   m.thread = std::thread([&m] { m.ioc.run(); });
+  m.control_thread = std::thread([&m] { m.control_ioc.run(); });
   return true;
 }
 
 void LiveServer::stop() {
   Impl& m = *impl_;
+  if (m.control_thread.joinable()) {
+    m.control_ioc.stop();
+    m.control_thread.join();
+  }
   if (m.thread.joinable()) {
     m.ioc.stop();
     m.thread.join();

@@ -43,7 +43,7 @@ function send(cmd,body){
  .then(function(r){return r.text().then(function(x){t('result',cmd+': '+x,r.ok?'ok':'bad')})})
  .catch(function(e){t('result',cmd+': '+e,'bad')})}
 function refresh(){
- fetch('/api/status').then(function(r){return r.json()}).then(function(s){
+ fetch('/api/status',{headers:{'X-Coxswain-Token':tok.value}}).then(function(r){return r.json()}).then(function(s){
   t('state',s.state_path,s.holding?'bad':'ok');
   t('hold',s.holding?'holding: '+s.hold_reason:'');
   t('wait',s.waiting_for?'waiting for: '+s.waiting_for:'');

@@ -9,6 +9,7 @@
 #include "coxswain/config/config_errors.hpp"
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <set>
@@ -77,9 +78,19 @@ class MapReader {
   bool finished_ = false;
 };
 
-/// Loads a YAML file; on a syntax error or an unreadable file records the issue and returns
-/// nullopt.
-std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors);
+/// The largest config file read (boat, devices, mission, course, sensors): far above the largest
+/// shipped file and a 20,000-obstacle course, small enough that a wrong file is refused at once.
+inline constexpr std::uintmax_t kMaxConfigFileBytes = 8U << 20U;
+
+/// Loads a YAML file holding exactly one document; records the issue and returns nullopt on a
+/// syntax error, an unreadable, empty or over-long (`max_bytes`) file, a second document, or a
+/// duplicate key anywhere (each duplicate with its line).
+std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors,
+                                         std::uintmax_t max_bytes = kMaxConfigFileBytes);
+
+/// True for an optional sign and decimal digits without a leading zero ("0", "-12", "115200");
+/// false for "0115200" (octal to yaml-cpp), "0x1C" and anything else.
+[[nodiscard]] bool is_decimal_integer(std::string_view text);
 
 // ---- template implementations -------------------------------------------------------------
 
@@ -115,6 +126,12 @@ T MapReader::get(std::string_view key, T fallback, Bounds<T> bounds) {
                     : value.IsSequence() ? "sequence"
                                          : "null"));
     return fallback;
+  }
+  if constexpr (std::is_integral_v<T> && !std::is_same_v<T, bool>) {
+    if (!is_decimal_integer(value.Scalar())) {
+      error(key, "expected a decimal integer, got '" + value.Scalar() + "'");
+      return fallback;
+    }
   }
   T out{};
   try {

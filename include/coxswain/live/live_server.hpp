@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The daemon's local control interface and live view, all on one thread of its
-// own (the "control thread", the single writer of LatestStore::operator_input):
+// The daemon's local control interface and live view, on two threads of their own (the control
+// socket's, so no network flood delays the operator, and the network one), which write
+// LatestStore::operator_input under one mutex:
 //  - a Unix stream socket taking line commands (see control_protocol.hpp), one answer line each;
 //  - an HTTP server (Boost.Beast) with the shore status page at GET /, GET /api/status and the
 //    token-protected POST /api/start|hold|resume|target;
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
@@ -30,8 +32,27 @@ struct LiveOptions {
   std::string http_address = "127.0.0.1";
   std::uint16_t http_port = 8765;  // 0: any free port (see LiveServer::http_port())
   double viz_rate_hz = 10.0;       // messageData per channel at most this often
-  std::string token;               // the status page's buttons need it; empty: buttons refused
-  std::string name = "coxswain";   // serverInfo name
+  /// Every state-changing request (buttons, setParameters) needs it, and so does viewing from
+  /// another machine; compared in constant time. Empty: control is disabled (viewing stays open
+  /// to this computer).
+  std::string token;
+  /// Host names besides IP literals and "localhost" that name this server (DNS-rebinding guard),
+  /// e.g. "boat.local" when the phone opens http://boat.local:8765.
+  std::vector<std::string> allowed_hosts;
+  /// Browser origins besides the server's own that may use it ("scheme://host[:port]").
+  std::vector<std::string> allowed_origins = {"https://app.foxglove.dev"};
+  std::size_t max_http_connections = 64;     // HTTP + WebSocket; more are closed at once
+  std::size_t max_control_connections = 16;  // control socket; the oldest gives way to a new one
+  double header_timeout_s = 10.0;            // a request's header and body, a WebSocket handshake
+  double idle_timeout_s = 60.0;         // a WebSocket with no subscription and no request (pings
+                                        // do not count); an idle control socket connection
+  double write_stall_timeout_s = 10.0;  // a client not taking what it is sent is dropped
+  std::size_t max_client_queue_bytes = std::size_t{4} << 20U;  // per WebSocket client
+  std::size_t max_ws_message_bytes = std::size_t{64} << 10U;
+  /// File descriptors kept free of network clients for devices, recording and the control
+  /// socket: HTTP connections are limited to (RLIMIT_NOFILE - reserve) / 2 if that is lower.
+  std::size_t fd_reserve = 256;
+  std::string name = "coxswain";  // serverInfo name
   /// Published as the first OperatorInput when not kUnknown (the daemon's --target).
   msg::Colour initial_target_colour = msg::Colour::kUnknown;
   msg::Shape initial_target_shape = msg::Shape::kUnknown;

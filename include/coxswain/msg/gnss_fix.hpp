@@ -18,7 +18,15 @@ enum class FixType : std::uint8_t {
 /// Carrier-phase solution (UBX NAV-PVT carrSoln, NMEA GGA quality 5/4).
 enum class RtkSolution : std::uint8_t { kNone = 0, kFloat = 1, kFixed = 2 };
 
-enum class GnssSource : std::uint8_t { kUbxNavPvt = 0, kNmeaGga = 1, kNmeaRmc = 2, kNmeaGll = 3 };
+/// kUbxNavLegacy: NAV-SOL / NAV-POSLLH / NAV-VELNED / NAV-STATUS / NAV-POSECEF of one epoch
+/// (receivers and configurations without NAV-PVT, e.g. timing receivers).
+enum class GnssSource : std::uint8_t {
+  kUbxNavPvt = 0,
+  kNmeaGga = 1,
+  kNmeaRmc = 2,
+  kNmeaGll = 3,
+  kUbxNavLegacy = 4,
+};
 
 /// A position fix from the receiver, with the quality fields the mission needs to trust it.
 struct GnssFix {

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include "coxswain/core/angles.hpp"
 
@@ -296,9 +297,113 @@ std::int64_t Decoder::date_for(std::int64_t tod_ms) const {
   return days;
 }
 
+namespace {
+
+// WGS-84 ECEF to geodetic latitude/longitude (deg) and ellipsoidal height (m), iterated to well
+// below a millimetre.
+void ecef_to_geodetic(const double (&xyz)[3], double& lat_deg, double& lon_deg, double& h_m) {
+  constexpr double a = 6378137.0;
+  constexpr double f = 1.0 / 298.257223563;
+  constexpr double e2 = f * (2.0 - f);
+  const double x = xyz[0];
+  const double y = xyz[1];
+  const double z = xyz[2];
+  const double p = std::hypot(x, y);
+  double lat = std::atan2(z, p * (1.0 - e2));
+  double h = 0.0;
+  for (int i = 0; i < 10; ++i) {
+    const double s = std::sin(lat);
+    const double n = a / std::sqrt(1.0 - e2 * s * s);
+    h = p / std::cos(lat) - n;
+    if (p < 1.0) h = std::abs(z) - a * std::sqrt(1.0 - e2);  // at a pole
+    lat = std::atan2(z, p * (1.0 - e2 * n / (n + h)));
+  }
+  lat_deg = lat * 180.0 / std::numbers::pi;
+  lon_deg = std::atan2(y, x) * 180.0 / std::numbers::pi;
+  h_m = h;
+}
+
+}  // namespace
+
+Decoder::LegacyEpoch& Decoder::legacy_epoch(std::uint32_t itow_ms) {
+  if (!legacy_.active || legacy_.itow_ms != itow_ms) {
+    legacy_ = LegacyEpoch{};
+    legacy_.active = true;
+    legacy_.itow_ms = itow_ms;
+  }
+  return legacy_;
+}
+
+bool Decoder::used_ubx(UbxId id) {
+  msg_.kind = MessageKind::kOtherUbx;  // read into the epoch, nothing to hand out yet
+  msg_.ubx = id;
+  return true;
+}
+
+bool Decoder::emit_legacy() {
+  const LegacyEpoch& e = legacy_;
+  // A receiver that sends NAV-PVT gets its fixes from it alone, not twice per epoch.
+  if (pvt_seen_ || !e.have_status || (!e.have_llh && !e.have_ecef)) return false;
+  msg::GnssFix fix;
+  fix.source = msg::GnssSource::kUbxNavLegacy;
+  fix.itow_ms = e.itow_ms;
+  fix.fix_type = e.fix_type <= 5 ? static_cast<msg::FixType>(e.fix_type) : msg::FixType::kNoFix;
+  fix.fix_ok = e.fix_ok;
+  fix.diff_soln = e.diff_soln;
+  fix.satellites = e.satellites;
+  double lat_deg = e.lat_deg;
+  double lon_deg = e.lon_deg;
+  if (e.have_llh) {
+    fix.height_msl_m = e.height_msl_m;
+    fix.h_acc_m = e.h_acc_m;
+    fix.v_acc_m = e.v_acc_m;
+  } else {
+    double h_m = 0.0;
+    ecef_to_geodetic(e.ecef_m, lat_deg, lon_deg, h_m);
+    fix.height_msl_m = h_m;   // ellipsoidal: these messages carry no geoid separation
+    fix.h_acc_m = e.p_acc_m;  // 3-D accuracy: an upper bound of the horizontal one
+  }
+  fix.lat_deg = lat_deg;
+  fix.lon_deg = lon_deg;
+  if (e.have_velned) {
+    fix.vel_north_mps = e.vel_ned_mps[0];
+    fix.vel_east_mps = e.vel_ned_mps[1];
+    fix.vel_down_mps = e.vel_ned_mps[2];
+    fix.ground_speed_mps = e.ground_speed_mps;
+    fix.course_deg = e.course_deg;
+  } else if (e.have_ecef_vel) {
+    const double lat = lat_deg * std::numbers::pi / 180.0;
+    const double lon = lon_deg * std::numbers::pi / 180.0;
+    const double sl = std::sin(lat), cl = std::cos(lat), so = std::sin(lon), co = std::cos(lon);
+    const double* v = e.ecef_vel_mps;
+    fix.vel_north_mps = -sl * co * v[0] - sl * so * v[1] + cl * v[2];
+    fix.vel_east_mps = -so * v[0] + co * v[1];
+    fix.vel_down_mps = -(cl * co * v[0] + cl * so * v[1] + sl * v[2]);
+    fix.ground_speed_mps = std::hypot(fix.vel_north_mps, fix.vel_east_mps);
+    fix.course_deg = fix.ground_speed_mps > 0.0
+                         ? core::wrap_deg(std::atan2(fix.vel_east_mps, fix.vel_north_mps) * 180.0 /
+                                          std::numbers::pi)
+                         : 0.0;
+  }
+  fix.velocity_valid =
+      (e.have_velned || e.have_ecef_vel) && fix.fix_ok && e.fix_type >= 2 && e.fix_type <= 4;
+  if (e.have_week && e.week > 0) {
+    constexpr std::int64_t kGpsEpochUnixS = 315964800;  // 1980-01-06
+    const std::int64_t gps_ms = static_cast<std::int64_t>(e.week) * 604800000LL + e.itow_ms;
+    fix.utc_ns =
+        (kGpsEpochUnixS - leap_seconds_) * core::kNsPerSec + gps_ms * 1'000'000LL + e.ftow_ns;
+  }
+  msg_.kind = MessageKind::kFix;
+  msg_.fix = fix;
+  msg_.nmea_address = {};
+  return true;
+}
+
 void Decoder::reset() {
   scanner_.reset();
   msg_ = Message{};
+  legacy_ = LegacyEpoch{};
+  pvt_seen_ = false;
   have_date_ = false;
   have_rmc_velocity_ = false;
   rmc_tod_ms_ = -1;
@@ -340,6 +445,7 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
   if (id == UbxId{0x01, 0x07}) {
     // NAV-PVT: 92 bytes (84 on u-blox 6/7; nothing we read lies beyond 84).
     if (p.size() != 92 && p.size() != 84) return false;
+    pvt_seen_ = true;
     msg::GnssFix fix;
     fix.source = msg::GnssSource::kUbxNavPvt;
     fix.itow_ms = get_u4(p, 0);
@@ -384,6 +490,82 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
     msg_.fix = fix;
     msg_.nmea_address = {};
     return true;
+  }
+  if (id.msg_class == 0x01) {
+    switch (id.msg_id) {
+      case 0x01: {  // NAV-POSECEF
+        if (p.size() != 20) return false;
+        LegacyEpoch& e = legacy_epoch(get_u4(p, 0));
+        if (!e.have_ecef) {
+          for (std::size_t i = 0; i < 3; ++i) e.ecef_m[i] = get_i4(p, 4 + 4 * i) * 1e-2;
+          e.p_acc_m = get_u4(p, 16) * 1e-2;
+          e.have_ecef = true;
+        }
+        if (!e.sol_emitted && emit_legacy()) return true;
+        return used_ubx(id);
+      }
+      case 0x02: {  // NAV-POSLLH
+        if (p.size() != 28) return false;
+        LegacyEpoch& e = legacy_epoch(get_u4(p, 0));
+        e.lon_deg = get_i4(p, 4) * 1e-7;
+        e.lat_deg = get_i4(p, 8) * 1e-7;
+        e.height_msl_m = get_i4(p, 16) * 1e-3;
+        e.h_acc_m = get_u4(p, 20) * 1e-3;
+        e.v_acc_m = get_u4(p, 24) * 1e-3;
+        e.have_llh = true;
+        return emit_legacy() || used_ubx(id);
+      }
+      case 0x03: {  // NAV-STATUS
+        if (p.size() != 16) return false;
+        LegacyEpoch& e = legacy_epoch(get_u4(p, 0));
+        if (!e.have_status) {
+          e.fix_type = p[4];
+          e.fix_ok = (p[5] & 0x01U) != 0;
+          e.diff_soln = (p[5] & 0x02U) != 0;
+          e.have_status = true;
+        }
+        if (!e.sol_emitted && emit_legacy()) return true;
+        return used_ubx(id);
+      }
+      case 0x06: {  // NAV-SOL
+        if (p.size() != 52) return false;
+        LegacyEpoch& e = legacy_epoch(get_u4(p, 0));
+        e.ftow_ns = get_i4(p, 4);
+        e.week = static_cast<std::int16_t>(get_u2(p, 8));
+        e.fix_type = p[10];
+        const std::uint8_t flags = p[11];
+        e.fix_ok = (flags & 0x01U) != 0;
+        e.diff_soln = (flags & 0x02U) != 0;
+        e.have_week = (flags & 0x0CU) == 0x0CU;  // week and time of week valid
+        e.have_status = true;
+        for (std::size_t i = 0; i < 3; ++i) {
+          e.ecef_m[i] = get_i4(p, 12 + 4 * i) * 1e-2;
+          e.ecef_vel_mps[i] = get_i4(p, 28 + 4 * i) * 1e-2;
+        }
+        e.p_acc_m = get_u4(p, 24) * 1e-2;
+        e.have_ecef = true;
+        e.have_ecef_vel = true;
+        e.satellites = p[47];
+        e.sol_emitted = true;
+        return emit_legacy() || used_ubx(id);
+      }
+      case 0x12: {  // NAV-VELNED
+        if (p.size() != 36) return false;
+        LegacyEpoch& e = legacy_epoch(get_u4(p, 0));
+        for (std::size_t i = 0; i < 3; ++i) e.vel_ned_mps[i] = get_i4(p, 4 + 4 * i) * 1e-2;
+        e.ground_speed_mps = get_u4(p, 20) * 1e-2;
+        e.course_deg = core::wrap_deg(get_i4(p, 24) * 1e-5);
+        e.have_velned = true;
+        return emit_legacy() || used_ubx(id);
+      }
+      case 0x20: {  // NAV-TIMEGPS: only its leap seconds
+        if (p.size() != 16) return false;
+        if ((p[11] & 0x04U) != 0) leap_seconds_ = get_i1(p, 10);
+        return used_ubx(id);
+      }
+      default:
+        break;
+    }
   }
   if (id == UbxId{0x01, 0x14}) {
     if (p.size() != 36) return false;

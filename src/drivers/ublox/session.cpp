@@ -22,7 +22,10 @@ Generation generation_of(const config::GnssDeviceConfig& c) {
   return c.receiver == config::GnssReceiver::kM8 ? Generation::kM8 : Generation::kF9;
 }
 
-bool is_nmea(msg::GnssSource s) { return s != msg::GnssSource::kUbxNavPvt; }
+bool is_ubx(msg::GnssSource s) {
+  return s == msg::GnssSource::kUbxNavPvt || s == msg::GnssSource::kUbxNavLegacy;
+}
+bool is_nmea(msg::GnssSource s) { return !is_ubx(s); }
 
 // NAV-PVT on the wire: 6 header + 92 payload + 2 checksum bytes (docs/protocols.md 3.3).
 constexpr std::uint64_t kNavPvtFrameBytes = 100;
@@ -135,9 +138,9 @@ void UbloxSession::on_bytes(std::span<const std::uint8_t> bytes, core::TimeNs ar
     if (step.produced) {
       const Message& m = decoder_.message();
       std::uint64_t start = stream_offset_;
-      if (m.kind == MessageKind::kFix && m.fix.source != msg::GnssSource::kUbxNavPvt) {
+      if (m.kind == MessageKind::kFix && is_nmea(m.fix.source)) {
         start = last_dollar_offset_;
-      } else if (m.kind == MessageKind::kFix) {
+      } else if (m.kind == MessageKind::kFix && m.fix.source == msg::GnssSource::kUbxNavPvt) {
         start = stream_offset_ >= kNavPvtFrameBytes ? stream_offset_ - kNavPvtFrameBytes : 0;
       }
       handle(m, arrival_of(start), link);
@@ -161,7 +164,7 @@ void UbloxSession::handle(const Message& m, core::TimeNs stamp_ns, DeviceLink& l
           last_pvt_ns_ != core::kNeverNs && stamp_ns - last_pvt_ns_ < nmea_hold_ns_;
       const bool hold_by_gga =
           last_gga_ns_ != core::kNeverNs && stamp_ns - last_gga_ns_ < nmea_hold_ns_;
-      if (fix.source == msg::GnssSource::kUbxNavPvt) {
+      if (is_ubx(fix.source)) {
         last_pvt_ns_ = stamp_ns;
       } else if (fix.source == msg::GnssSource::kNmeaGga) {
         if (hold_by_pvt) {

@@ -113,7 +113,18 @@ check(r.status === 0 && JSON.parse(r.stdout).state_path !== undefined,
   "ctl finds the newest run's socket by itself");
 
 // ---- Foxglove WebSocket ----
-const ws = new WebSocket(`ws://127.0.0.1:${port}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+// A browser page of another origin is refused at the handshake, even with the token.
+const evil = new WebSocket(`ws://127.0.0.1:${port}/?token=${TOKEN}`,
+  [FoxgloveClient.SUPPORTED_SUBPROTOCOL], { origin: "http://evil.example" });
+const evilResult = await new Promise((resolve) => {
+  evil.on("open", () => resolve("open"));
+  evil.on("unexpected-response", (_req, res) => resolve(res.statusCode));
+  evil.on("error", () => resolve("error"));
+});
+check(evilResult === 403, `a cross-origin WebSocket is refused (${evilResult})`);
+// Live tuning needs the token in the URL (Foxglove can only pass it there).
+const ws = new WebSocket(`ws://127.0.0.1:${port}/?token=${TOKEN}`,
+  [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
 const client = new FoxgloveClient({ ws });
 const received = new Map();  // subscription id -> [{timestamp, json}]
 let serverInfo = null;

@@ -8,12 +8,13 @@ exe=$1
 src=$2
 source_dir=$3
 work=$4
+script=${5:-live_test.mjs}
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   echo "SKIP: node and npm are needed for the Foxglove client test (apt-get install nodejs npm)"
   exit 77
 fi
 mkdir -p "$work/node"
-cp "$src/live_test.mjs" "$work/node/"
+cp "$src/$script" "$work/node/"
 if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
    [ ! -d "$work/node/node_modules/@foxglove/ws-protocol" ]; then
   cp "$src/package.json" "$src/package-lock.json" "$work/node/"
@@ -27,7 +28,15 @@ fi
 # The daemon's run directory holds its control socket, whose path must fit in 107 bytes; under a
 # deep build tree it did not (a clone in /tmp/tmp.XXXXXXXXXX/c with build dir build-asan-g1).
 run=$(mktemp -d "${TMPDIR:-/tmp}/coxswain-live.XXXXXX")
-if node "$work/node/live_test.mjs" "$exe" "$source_dir" "$run"; then
+if [ "$script" = flood_test.mjs ]; then
+  # 2,000 client connections and more: raise this shell's own descriptor limit.
+  ulimit -n 8192 2>/dev/null || ulimit -n "$(ulimit -Hn)" 2>/dev/null || true
+  if [ "$(ulimit -n)" != unlimited ] && [ "$(ulimit -n)" -lt 2300 ]; then
+    echo "SKIP: the flood test needs 2,300 descriptors, the limit here is $(ulimit -n)"
+    exit 77
+  fi
+fi
+if node "$work/node/$script" "$exe" "$source_dir" "$run"; then
   rm -rf "$run"
 else
   status=$?

@@ -144,3 +144,89 @@ TEST(BoatConfig, ThrusterOrderingChecked) {
 
 }  // namespace
 }  // namespace coxswain::config
+
+namespace coxswain::config {
+namespace {
+
+std::string load_errors(const std::string& text) {
+  TempYaml file(text);
+  ConfigErrors errors;
+  EXPECT_FALSE(load_yaml_file(file.path(), errors)) << "accepted:\n" << text;
+  return errors.format();
+}
+
+TEST(StrictYaml, DuplicateKeyIsAnErrorWithBothLines) {
+  const std::string text = load_errors("kind: devices\nbaud: 9600\nbaud: 115200\n");
+  EXPECT_NE(text.find(".yaml:3: key 'baud' is a duplicate key (first at line 2)"),
+            std::string::npos)
+      << text;
+}
+
+TEST(StrictYaml, DuplicateSectionIsAnError) {
+  const std::string text =
+      load_errors("kind: devices\ngnss:\n  baud: 9600\nlidar: {}\ngnss:\n  port: x\n");
+  EXPECT_NE(text.find(":5: key 'gnss' is a duplicate key (first at line 2)"), std::string::npos)
+      << text;
+}
+
+TEST(StrictYaml, DuplicateKeyInsideAListElementIsAnError) {
+  const std::string text = load_errors("tasks:\n  - kind: a\n    kind: b\n");
+  EXPECT_NE(text.find(":3: key 'kind' is a duplicate key"), std::string::npos) << text;
+}
+
+TEST(StrictYaml, SecondDocumentIsAnErrorWithItsLine) {
+  const std::string text = load_errors("kind: boat\n---\nkind: devices\n");
+  EXPECT_NE(text.find("holds 2 YAML documents"), std::string::npos) << text;
+  EXPECT_NE(text.find(".yaml:3:"), std::string::npos) << text;
+}
+
+TEST(StrictYaml, EmptyFileAndCommentOnlyFileAreErrors) {
+  EXPECT_NE(load_errors("").find("is empty"), std::string::npos);
+  EXPECT_NE(load_errors("# nothing here\n").find("is empty"), std::string::npos);
+  EXPECT_NE(load_errors("---\n...\n").find("is empty"), std::string::npos);
+}
+
+TEST(StrictYaml, OverLongFileIsRefusedBeforeParsing) {
+  TempYaml file("kind: course\n" + std::string(2000, '#') + "\n");
+  ConfigErrors errors;
+  EXPECT_FALSE(load_yaml_file(file.path(), errors, 1000));
+  EXPECT_NE(errors.format().find("more than the 1000 a config file may have"), std::string::npos)
+      << errors.format();
+}
+
+TEST(StrictYaml, OneDocumentWithDistinctKeysLoads) {
+  TempYaml file("---\nkind: boat\na: {x: 1, y: 2}\nb: [{x: 1}, {x: 2}]\n");
+  ConfigErrors errors;
+  EXPECT_TRUE(load_yaml_file(file.path(), errors)) << errors.format();
+}
+
+TEST(StrictYaml, LeadingZeroAndHexIntegersAreErrors) {
+  ConfigErrors errors;
+  MapReader r(YAML::Load("baud: 0115200\nid: 0x1C\nok: 115200\nneg: -3\nzero: 0\n"), "d.yaml", "",
+              errors);
+  EXPECT_EQ(r.get<int>("baud", 9600), 9600);
+  EXPECT_EQ(r.get<int>("id", 1), 1);
+  EXPECT_EQ(r.get<int>("ok", 0), 115200);
+  EXPECT_EQ(r.get<int>("neg", 0), -3);
+  EXPECT_EQ(r.get<int>("zero", 5), 0);
+  r.finish();
+  ASSERT_EQ(errors.size(), 2U) << errors.format();
+  EXPECT_EQ(errors.issues()[0].to_string(),
+            "d.yaml:1: key 'baud' expected a decimal integer, got '0115200'");
+  EXPECT_EQ(errors.issues()[1].to_string(),
+            "d.yaml:2: key 'id' expected a decimal integer, got '0x1C'");
+}
+
+TEST(StrictYaml, DecimalIntegerTextIsRecognised) {
+  EXPECT_TRUE(is_decimal_integer("0"));
+  EXPECT_TRUE(is_decimal_integer("+7"));
+  EXPECT_FALSE(is_decimal_integer("00"));
+  EXPECT_FALSE(is_decimal_integer("0o17"));
+  EXPECT_FALSE(is_decimal_integer("1e3"));
+  EXPECT_FALSE(is_decimal_integer("-"));
+  EXPECT_FALSE(is_decimal_integer(""));
+  EXPECT_FALSE(is_decimal_integer("1_000"));
+}
+
+}  // namespace
+}  // namespace coxswain::config

@@ -20,6 +20,7 @@
 
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
+#include "coxswain/live/request_guard.hpp"
 
 namespace coxswain::live {
 namespace {
@@ -43,6 +44,9 @@ class LiveServerTest : public ::testing::Test {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     store_ = std::make_unique<core::LatestStore>();
+    restart(options());
+  }
+  LiveOptions options() const {
     LiveOptions o;
     o.socket_path = dir_ / "control.sock";
     o.http_port = 0;
@@ -50,6 +54,12 @@ class LiveServerTest : public ::testing::Test {
     o.token = kToken;
     o.initial_target_colour = msg::Colour::kRed;
     o.initial_target_shape = msg::Shape::kTriangle;
+    return o;
+  }
+  void restart(const LiveOptions& o) {
+    stop_tick();
+    stop_.store(false);
+    server_.reset();
     server_ = std::make_unique<LiveServer>(o, *store_, clock_);
     std::string error;
     ASSERT_TRUE(server_->start(error)) << error;
@@ -98,12 +108,15 @@ class LiveServerTest : public ::testing::Test {
 
   http::response<http::string_body> request(http::verb verb, const std::string& target,
                                             const std::string& token = "",
-                                            const std::string& body = "") {
+                                            const std::string& body = "",
+                                            const std::string& host = "127.0.0.1",
+                                            const std::string& origin = "") {
     asio::io_context ioc;
     beast::tcp_stream stream(ioc);
     stream.connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
     http::request<http::string_body> req{verb, target, 11};
-    req.set(http::field::host, "127.0.0.1");
+    req.set(http::field::host, host);
+    if (!origin.empty()) req.set(http::field::origin, origin);
     if (!token.empty()) req.set("X-Coxswain-Token", token);
     req.body() = body;
     req.prepare_payload();
@@ -112,6 +125,31 @@ class LiveServerTest : public ::testing::Test {
     http::response<http::string_body> res;
     http::read(stream, buffer, res);
     return res;
+  }
+
+  // A Foxglove client; `origin` empty: none sent (not a browser).
+  std::unique_ptr<websocket::stream<tcp::socket>> connect_ws(asio::io_context& ioc,
+                                                             const std::string& target,
+                                                             const std::string& origin,
+                                                             boost::system::error_code& ec) {
+    auto ws = std::make_unique<websocket::stream<tcp::socket>>(ioc);
+    ws->next_layer().connect(
+        tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
+    ws->set_option(websocket::stream_base::decorator([origin](websocket::request_type& req) {
+      req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
+      if (!origin.empty()) req.set(http::field::origin, origin);
+    }));
+    ws->handshake("127.0.0.1:" + std::to_string(server_->http_port()), target, ec);
+    return ws;
+  }
+  // The next text message (skipping visualization frames).
+  static json next_text(websocket::stream<tcp::socket>& ws) {
+    beast::flat_buffer buf;
+    for (;;) {
+      buf.clear();
+      ws.read(buf);
+      if (ws.got_text()) return json::parse(beast::buffers_to_string(buf.data()));
+    }
   }
 
   fs::path dir_;
@@ -208,7 +246,7 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
     req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
   }));
   websocket::response_type handshake;
-  ws.handshake(handshake, "127.0.0.1", "/");
+  ws.handshake(handshake, "127.0.0.1", std::string("/?token=") + kToken);
   EXPECT_EQ(handshake[http::field::sec_websocket_protocol], "foxglove.websocket.v1");
 
   beast::flat_buffer buf;
@@ -286,6 +324,193 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   EXPECT_EQ(st["level"], 2);
   EXPECT_NE(st["message"].get<std::string>().find("kp_per_deg"), std::string::npos);
   ws.close(websocket::close_code::normal);
+}
+
+TEST_F(LiveServerTest, SetParametersWithoutTheTokenIsRefusedAndChangesNothing) {
+  start_tick();
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  for (const std::string target : {"/", "/?token=correct-horsE", "/?token="}) {
+    auto ws = connect_ws(ioc, target, "", ec);
+    ASSERT_FALSE(ec) << ec.message();  // viewing from this computer stays open
+    EXPECT_EQ(next_text(*ws)["op"], "serverInfo");
+    EXPECT_EQ(next_text(*ws)["op"], "advertise");
+    ws->text(true);
+    ws->write(
+        asio::buffer(json{{"op", "setParameters"},
+                          {"id", "x"},
+                          {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.0}}}}}
+                         .dump()));
+    const json st = next_text(*ws);
+    EXPECT_EQ(st["op"], "status");
+    EXPECT_EQ(st["level"], 2);
+    EXPECT_NE(st["message"].get<std::string>().find("needs the token"), std::string::npos)
+        << st.dump();
+    ws->write(asio::buffer(json{{"op", "getParameters"}, {"id", "g"}}.dump()));
+    const json values = next_text(*ws);
+    ASSERT_EQ(values["op"], "parameterValues");
+    for (const auto& p : values["parameters"]) {
+      if (p["name"] == "heading_pid.kp_per_deg") {
+        EXPECT_NE(p["value"].get<double>(), 0.0);
+      }
+    }
+  }
+}
+
+TEST_F(LiveServerTest, AnEmptyTokenDisablesLiveTuningWithAClearMessage) {
+  LiveOptions o = options();
+  o.token.clear();
+  restart(o);
+  start_tick();
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  auto ws = connect_ws(ioc, "/?token=", "", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  ws->text(true);
+  ws->write(
+      asio::buffer(json{{"op", "setParameters"},
+                        {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.0}}}}}
+                       .dump()));
+  json st;
+  do {
+    st = next_text(*ws);
+  } while (st["op"] != "status");
+  EXPECT_NE(st["message"].get<std::string>().find("no token is configured"), std::string::npos);
+  EXPECT_EQ(request(http::verb::post, "/api/hold", "").result(), http::status::unauthorized);
+  EXPECT_NE(request(http::verb::post, "/api/hold", "").body().find("no token is configured"),
+            std::string::npos);
+}
+
+TEST_F(LiveServerTest, ACrossOriginWebSocketIsRefusedEvenWithTheToken) {
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  connect_ws(ioc, std::string("/?token=") + kToken, "http://evil.example", ec);
+  EXPECT_TRUE(ec) << "the handshake succeeded";
+  ec.clear();
+  auto same = connect_ws(ioc, "/", "http://127.0.0.1:" + std::to_string(server_->http_port()), ec);
+  EXPECT_FALSE(ec) << "same-origin page refused: " << ec.message();
+  ec.clear();
+  auto foxglove = connect_ws(ioc, "/", "https://app.foxglove.dev", ec);
+  EXPECT_FALSE(ec) << "the Foxglove web app refused: " << ec.message();
+}
+
+TEST_F(LiveServerTest, ARebindingHostOrForeignOriginIsRefused) {
+  EXPECT_EQ(request(http::verb::get, "/api/status", "", "", "evil.example:8765").result(),
+            http::status::forbidden);
+  EXPECT_EQ(request(http::verb::post, "/api/hold", kToken, "", "evil.example").result(),
+            http::status::forbidden);
+  EXPECT_EQ(request(http::verb::post, "/api/hold", kToken, "", "127.0.0.1", "http://evil.example")
+                .result(),
+            http::status::forbidden);
+  EXPECT_FALSE(store_->operator_input.read().value.hold);
+  EXPECT_EQ(request(http::verb::get, "/api/status", "", "", "localhost:1234").result(),
+            http::status::ok);
+  EXPECT_EQ(request(http::verb::post, "/api/hold", kToken, "", "[::1]:8765").result(),
+            http::status::ok);
+  LiveOptions o = options();
+  o.allowed_hosts = {"boat.local"};
+  restart(o);
+  EXPECT_EQ(request(http::verb::get, "/api/status", "", "", "Boat.Local:8765").result(),
+            http::status::ok);
+}
+
+TEST_F(LiveServerTest, ConnectionsBeyondTheLimitAreClosedAndControlStillAnswers) {
+  LiveOptions o = options();
+  o.max_http_connections = 8;
+  o.max_control_connections = 4;
+  restart(o);
+  asio::io_context ioc;
+  std::vector<std::unique_ptr<tcp::socket>> idle;
+  for (int i = 0; i < 20; ++i) {
+    idle.push_back(std::make_unique<tcp::socket>(ioc));
+    idle.back()->connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
+  }
+  // The twelve beyond the limit are closed by the server: a read ends at once.
+  int closed = 0;
+  for (auto& s : idle) {
+    s->non_blocking(true);
+  }
+  for (int round = 0; round < 100 && closed < 12; ++round) {
+    closed = 0;
+    for (auto& s : idle) {
+      char c = 0;
+      boost::system::error_code ec;
+      s->read_some(asio::buffer(&c, 1), ec);
+      if (ec == asio::error::eof || ec == asio::error::connection_reset) ++closed;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(closed, 12);
+  // Idle control connections give way to the operator.
+  std::vector<std::unique_ptr<asio::local::stream_protocol::socket>> ctl_idle;
+  for (int i = 0; i < 10; ++i) {
+    ctl_idle.push_back(std::make_unique<asio::local::stream_protocol::socket>(ioc));
+    ctl_idle.back()->connect(
+        asio::local::stream_protocol::endpoint((dir_ / "control.sock").string()));
+  }
+  EXPECT_TRUE(answer_ok(ctl("hold")));
+  EXPECT_TRUE(store_->operator_input.read().value.hold);
+}
+
+TEST_F(LiveServerTest, AClientThatDoesNotReadItsRepliesIsDropped) {
+  LiveOptions o = options();
+  o.max_client_queue_bytes = 64 * 1024;
+  restart(o);
+  start_tick();
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  auto ws = connect_ws(ioc, "/", "", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  ws->text(true);
+  ws->next_layer().set_option(asio::socket_base::receive_buffer_size(4096));
+  const std::string get = json{{"op", "getParameters"}, {"id", "g"}}.dump();
+  // Far more replies than the queue and the socket buffers hold; never read. The server works
+  // through the requests after they are written: keep writing until it has hung up.
+  bool dropped = false;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  for (int i = 0; !dropped && std::chrono::steady_clock::now() < end; ++i) {
+    ws->write(asio::buffer(get), ec);
+    dropped = static_cast<bool>(ec);
+    if (i > 20000) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_TRUE(dropped) << "the server kept queueing replies";
+}
+
+TEST(RequestGuard, HostNamesAndOrigins) {
+  EXPECT_EQ(host_name_of("Boat.Local:8765"), "boat.local");
+  EXPECT_EQ(host_name_of("[::1]:8765"), "::1");
+  EXPECT_EQ(host_name_of("localhost."), "localhost");
+  EXPECT_EQ(host_name_of("::1"), "");
+  EXPECT_EQ(host_name_of("a b"), "");
+  EXPECT_TRUE(host_allowed("127.0.0.1:8765", {}));
+  EXPECT_TRUE(host_allowed("192.168.1.20", {}));
+  EXPECT_TRUE(host_allowed("[fe80::1]:80", {}));
+  EXPECT_TRUE(host_allowed("localhost:8765", {}));
+  EXPECT_FALSE(host_allowed("attacker.example", {}));
+  EXPECT_FALSE(host_allowed("127.0.0.1.attacker.example", {}));
+  EXPECT_FALSE(host_allowed("", {}));
+  EXPECT_TRUE(host_allowed("boat.local", {"boat.local"}));
+  EXPECT_TRUE(origin_allowed(std::nullopt, "127.0.0.1:8765", {}));
+  EXPECT_TRUE(origin_allowed("http://127.0.0.1:8765", "127.0.0.1:8765", {}));
+  EXPECT_FALSE(origin_allowed("http://127.0.0.1:9999", "127.0.0.1:8765", {}));
+  EXPECT_FALSE(origin_allowed("null", "127.0.0.1:8765", {}));
+  EXPECT_TRUE(
+      origin_allowed("https://App.Foxglove.dev", "127.0.0.1:8765", {"https://app.foxglove.dev"}));
+  EXPECT_EQ(path_of("/api/start?token=x"), "/api/start");
+  EXPECT_EQ(query_token("/?a=1&token=abc#frag").value_or("-"), "abc");
+  EXPECT_FALSE(query_token("/?tokens=abc"));
+}
+
+TEST(RequestGuard, WarningsAreLimitedPerPeriodAndCountTheRest) {
+  WarningLimiter limiter(std::chrono::seconds(10));
+  const auto t0 = WarningLimiter::Clock::now();
+  std::uint64_t suppressed = 99;
+  EXPECT_TRUE(limiter.allow(t0, suppressed));
+  EXPECT_EQ(suppressed, 0U);
+  for (int i = 0; i < 1000; ++i)
+    EXPECT_FALSE(limiter.allow(t0 + std::chrono::seconds(5), suppressed));
+  EXPECT_TRUE(limiter.allow(t0 + std::chrono::seconds(11), suppressed));
+  EXPECT_EQ(suppressed, 1000U);
 }
 
 TEST(LiveServerBind, ABusyPortIsReportedNotFatal) {

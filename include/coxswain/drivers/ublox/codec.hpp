@@ -109,7 +109,7 @@ struct Rtcm3Frame {
 
 enum class MessageKind : std::uint8_t {
   kNone,
-  kFix,        // NAV-PVT, NMEA GGA, RMC or GLL -> Message::fix
+  kFix,        // NAV-PVT, NMEA GGA, RMC or GLL, older NAV messages -> Message::fix
   kHpPosLlh,   // NAV-HPPOSLLH -> Message::hp
   kAck,        // ACK-ACK -> Message::ubx = acknowledged class/id
   kNak,        // ACK-NAK -> Message::ubx = rejected class/id
@@ -134,6 +134,12 @@ struct Message {
 /// 5 = float), altitude, satellites and HDOP; a GGA fix also carries the date and velocity of the
 /// RMC of the same second when it came first (u-blox order), so a GGA fix alone is complete.
 /// GLL gives a 2-D position-only fix (dated from the last RMC/ZDA).
+/// Receivers without NAV-PVT: NAV-SOL, NAV-POSLLH, NAV-VELNED, NAV-STATUS and NAV-POSECEF of one
+/// epoch (same iTOW) are merged into one fix (source kUbxNavLegacy); each of them that adds to
+/// an epoch whose status and position are known produces the fix so far, so the last one of the
+/// epoch is complete. Position from POSLLH, else from ECEF; velocity from VELNED, else from
+/// NAV-SOL's ECEF velocity; UTC from NAV-SOL's week and iTOW less the leap seconds of the last
+/// valid NAV-TIMEGPS (18 s until one is seen). Once a NAV-PVT has been seen, they give no fix.
 /// Pure: no clock, no I/O, no allocation. Not thread-safe (one owner).
 class Decoder {
  public:
@@ -165,6 +171,37 @@ class Decoder {
   double rmc_speed_mps_ = 0.0;
   bool rmc_course_valid_ = false;
   double rmc_course_deg_ = 0.0;
+
+  // Older NAV messages of the current epoch.
+  struct LegacyEpoch {
+    bool active = false;
+    std::uint32_t itow_ms = 0;
+    bool have_status = false;
+    std::uint8_t fix_type = 0;
+    bool fix_ok = false;
+    bool diff_soln = false;
+    bool have_llh = false;
+    double lat_deg = 0.0, lon_deg = 0.0, height_msl_m = 0.0, h_acc_m = -1.0, v_acc_m = -1.0;
+    bool have_ecef = false;
+    double ecef_m[3] = {0.0, 0.0, 0.0};
+    double p_acc_m = -1.0;
+    bool have_velned = false;
+    double vel_ned_mps[3] = {0.0, 0.0, 0.0};
+    double ground_speed_mps = 0.0, course_deg = 0.0;
+    bool have_ecef_vel = false;
+    double ecef_vel_mps[3] = {0.0, 0.0, 0.0};
+    bool have_week = false;
+    std::int32_t week = 0;
+    std::int32_t ftow_ns = 0;
+    std::uint8_t satellites = 0;
+    bool sol_emitted = false;
+  };
+  [[nodiscard]] LegacyEpoch& legacy_epoch(std::uint32_t itow_ms);
+  [[nodiscard]] bool emit_legacy();
+  [[nodiscard]] bool used_ubx(UbxId id);
+  LegacyEpoch legacy_;
+  std::int32_t leap_seconds_ = 18;
+  bool pvt_seen_ = false;  // since the last reset(): the older messages are then ignored
 };
 
 /// Splits a correction stream (file, pipe, NTRIP/TCP) into complete CRC-checked RTCM 3 frames,

@@ -456,3 +456,114 @@ TEST(Rtcm3Framer, ExtractsFramesAndResyncs) {
 
 }  // namespace
 }  // namespace coxswain::drivers::ublox
+
+namespace coxswain::drivers::ublox {
+namespace {
+
+std::vector<std::uint8_t> ubx(std::uint8_t id, std::vector<std::uint8_t> payload) {
+  const UbxFrame f = make_ubx_frame(UbxId{0x01, id}, payload);
+  return {f.bytes().begin(), f.bytes().end()};
+}
+
+TEST(UbloxDecoder, OlderNavMessagesOfOneEpochMergeIntoOneFix) {
+  // A u-blox 6-style epoch: NAV-POSLLH, NAV-STATUS, NAV-VELNED (no NAV-PVT).
+  std::vector<std::uint8_t> posllh(28, 0);
+  test::put_le(posllh, 0, 200'000, 4);
+  test::put_le(posllh, 4, 1'268'000'000, 4);  // lon 126.8
+  test::put_le(posllh, 8, 351'000'000, 4);    // lat 35.1
+  test::put_le(posllh, 16, 12'345, 4);        // hMSL mm
+  test::put_le(posllh, 20, 1'500, 4);         // hAcc mm
+  std::vector<std::uint8_t> status(16, 0);
+  test::put_le(status, 0, 200'000, 4);
+  status[4] = 3;     // 3-D
+  status[5] = 0x03;  // gpsFixOk, diffSoln
+  std::vector<std::uint8_t> velned(36, 0);
+  test::put_le(velned, 0, 200'000, 4);
+  test::put_le(velned, 4, 150, 4);          // north cm/s
+  test::put_le(velned, 8, -200, 4);         // east
+  test::put_le(velned, 20, 250, 4);         // ground speed
+  test::put_le(velned, 24, 30'687'000, 4);  // heading 306.87 deg
+  std::vector<std::uint8_t> bytes;
+  for (const auto& f : {ubx(0x02, posllh), ubx(0x03, status), ubx(0x12, velned)}) {
+    bytes.insert(bytes.end(), f.begin(), f.end());
+  }
+  Decoder d;
+  const auto out = test::decode_all(d, bytes, 7);
+  std::vector<msg::GnssFix> fixes;
+  for (const auto& r : out) {
+    if (r.kind == MessageKind::kFix) fixes.push_back(r.fix);
+  }
+  ASSERT_EQ(fixes.size(), 2U);  // position known once STATUS came, completed by VELNED
+  const msg::GnssFix& f = fixes.back();
+  EXPECT_EQ(f.source, msg::GnssSource::kUbxNavLegacy);
+  EXPECT_EQ(f.itow_ms, 200'000U);
+  EXPECT_TRUE(f.fix_ok);
+  EXPECT_TRUE(f.diff_soln);
+  EXPECT_EQ(f.fix_type, msg::FixType::k3D);
+  EXPECT_DOUBLE_EQ(f.lat_deg, 35.1);
+  EXPECT_DOUBLE_EQ(f.lon_deg, 126.8);
+  EXPECT_DOUBLE_EQ(f.h_acc_m, 1.5);
+  EXPECT_DOUBLE_EQ(f.ground_speed_mps, 2.5);
+  EXPECT_NEAR(f.course_deg, -53.13, 1e-9);
+  EXPECT_TRUE(f.velocity_valid);
+  EXPECT_EQ(d.stats().framing_errors, 0U);
+}
+
+TEST(UbloxDecoder, NavSolAloneGivesPositionFromEcefAndUtcFromTheWeek) {
+  // ECEF of 44.068817081 N, 121.314317437 W, 1110.233 m (gpsd's NEO-M8T capture).
+  std::vector<std::uint8_t> sol(52, 0);
+  test::put_le(sol, 0, 353'735'000, 4);
+  test::put_le(sol, 8, 2039, 2);
+  sol[10] = 5;     // time only (surveyed in)
+  sol[11] = 0x0D;  // gpsFixOK, week and TOW valid
+  test::put_le(sol, 12, -238'607'116, 4);
+  test::put_le(sol, 16, -392'218'940, 4);
+  test::put_le(sol, 20, 441'436'102, 4);
+  test::put_le(sol, 24, 99, 4);
+  sol[47] = 18;
+  Decoder d;
+  const auto out = test::decode_all(d, ubx(0x06, sol));
+  ASSERT_EQ(out.size(), 1U);
+  ASSERT_EQ(out[0].kind, MessageKind::kFix);
+  const msg::GnssFix& f = out[0].fix;
+  EXPECT_NEAR(f.lat_deg, 44.068817081, 1e-8);
+  EXPECT_NEAR(f.lon_deg, -121.314317437, 1e-8);
+  EXPECT_EQ(f.fix_type, msg::FixType::kTimeOnly);
+  EXPECT_EQ(f.satellites, 18U);
+  // 2019-02-07T02:15:17Z: GPS week 2039, 353735 s, less 18 leap seconds.
+  EXPECT_EQ(f.utc_ns, 1549505717LL * 1'000'000'000LL);
+}
+
+TEST(UbloxDecoder, OlderNavMessagesGiveNoSecondFixWhenNavPvtIsSent) {
+  std::vector<std::uint8_t> sol(52, 0);
+  test::put_le(sol, 0, 100'000, 4);
+  sol[10] = 3;
+  sol[11] = 0x0D;
+  test::put_le(sol, 12, -238'607'116, 4);
+  test::put_le(sol, 16, -392'218'940, 4);
+  test::put_le(sol, 20, 441'436'102, 4);
+  std::vector<std::uint8_t> bytes;
+  const auto pvt = test::nav_pvt_frame({});
+  bytes.insert(bytes.end(), pvt.bytes().begin(), pvt.bytes().end());
+  const auto s = ubx(0x06, sol);
+  bytes.insert(bytes.end(), s.begin(), s.end());
+  Decoder d;
+  int fixes = 0;
+  for (const auto& r : test::decode_all(d, bytes)) {
+    if (r.kind == MessageKind::kFix) {
+      ++fixes;
+      EXPECT_EQ(r.fix.source, msg::GnssSource::kUbxNavPvt);
+    }
+  }
+  EXPECT_EQ(fixes, 1);
+}
+
+TEST(UbloxDecoder, MalformedOlderNavMessageIsAFramingError) {
+  Decoder d;
+  const auto out = test::decode_all(d, ubx(0x06, std::vector<std::uint8_t>(51, 0)));
+  EXPECT_TRUE(out.empty());
+  EXPECT_EQ(d.stats().framing_errors, 1U);
+}
+
+}  // namespace
+}  // namespace coxswain::drivers::ublox

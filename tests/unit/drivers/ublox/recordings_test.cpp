@@ -192,7 +192,10 @@ INSTANTIATE_TEST_SUITE_P(Ublox, GpsdComparison,
                                            Capture{"ublox-zed-f9t-rtcm3.log", true, 26, false},
                                            Capture{"ublox-zed-f9p-nmea.log", false, 29, false},
                                            Capture{"ublox-8.log", false, 72, false},
-                                           Capture{"neo-m8n.log", false, 23, true}),
+                                           Capture{"neo-m8n.log", false, 23, true},
+                                           // NAV-SOL/POSECEF/VELECEF/TIMEGPS, no NAV-PVT, no
+                                           // NMEA (a timing receiver); eph is gpsd's DOP-based.
+                                           Capture{"ublox-neo-m8t-s.log", false, 43, false}),
                          [](const ::testing::TestParamInfo<Capture>& param_info) {
                            std::string n = param_info.param.log;
                            for (char& ch : n) {
