@@ -54,18 +54,19 @@ void read_row(MapReader& m, S& s, const core::ParamSpec<S>& row, std::string_vie
   }
 }
 
-// The rows of `table` under `prefix` ("" or "score."), each read from `m`; nested maps (a dot in
-// the key) are opened once and checked for unknown keys.
-template <class S>
-void read_rows(MapReader& m, S& s, std::span<const core::ParamSpec<S>> table,
-               const std::string& prefix) {
+// Walks the rows of `table` under `prefix` ("" or "score."): `leaf(row, key)` for a key with no
+// further dot, `group(sub, child_prefix)` once for each nested map (a dot in the key), in the
+// order the rows first name them.
+template <class S, class Leaf, class Group>
+void visit_rows(std::span<const core::ParamSpec<S>> table, const std::string& prefix, Leaf&& leaf,
+                Group&& group) {
   std::vector<std::string_view> opened;
   for (const core::ParamSpec<S>& row : table) {
     if (!row.key.starts_with(prefix)) continue;
     const std::string_view rest = row.key.substr(prefix.size());
     const std::size_t dot = rest.find('.');
     if (dot == std::string_view::npos) {
-      read_row(m, s, row, rest);
+      leaf(row, rest);
       continue;
     }
     const std::string_view sub = rest.substr(0, dot);
@@ -73,11 +74,24 @@ void read_rows(MapReader& m, S& s, std::span<const core::ParamSpec<S>> table,
     for (std::string_view o : opened) seen |= o == sub;
     if (seen) continue;
     opened.push_back(sub);
-    if (auto child = m.map(sub)) {
-      read_rows(*child, s, table, prefix + std::string(sub) + ".");
-      child->finish();
-    }
+    group(sub, prefix + std::string(sub) + ".");
   }
+}
+
+// Reads the rows under `prefix` from `m`; nested maps are opened once and checked for unknown
+// keys.
+template <class S>
+void read_rows(MapReader& m, S& s, std::span<const core::ParamSpec<S>> table,
+               const std::string& prefix) {
+  visit_rows(
+      table, prefix,
+      [&](const core::ParamSpec<S>& row, std::string_view key) { read_row(m, s, row, key); },
+      [&](std::string_view sub, const std::string& child_prefix) {
+        if (auto child = m.map(sub)) {
+          read_rows(*child, s, table, child_prefix);
+          child->finish();
+        }
+      });
 }
 
 /// Reads every row of `table` from the map `m` into `s` (unknown keys are left to the caller's
@@ -115,24 +129,14 @@ void emit_row(YAML::Emitter& out, const S& s, const core::ParamSpec<S>& row, std
 template <class S>
 void emit_rows(YAML::Emitter& out, const S& s, std::span<const core::ParamSpec<S>> table,
                const std::string& prefix) {
-  std::vector<std::string_view> opened;
-  for (const core::ParamSpec<S>& row : table) {
-    if (!row.key.starts_with(prefix)) continue;
-    const std::string_view rest = row.key.substr(prefix.size());
-    const std::size_t dot = rest.find('.');
-    if (dot == std::string_view::npos) {
-      emit_row(out, s, row, rest);
-      continue;
-    }
-    const std::string_view sub = rest.substr(0, dot);
-    bool seen = false;
-    for (std::string_view o : opened) seen |= o == sub;
-    if (seen) continue;
-    opened.push_back(sub);
-    out << YAML::Key << std::string(sub) << YAML::Value << YAML::BeginMap;
-    emit_rows(out, s, table, prefix + std::string(sub) + ".");
-    out << YAML::EndMap;
-  }
+  visit_rows(
+      table, prefix,
+      [&](const core::ParamSpec<S>& row, std::string_view key) { emit_row(out, s, row, key); },
+      [&](std::string_view sub, const std::string& child_prefix) {
+        out << YAML::Key << std::string(sub) << YAML::Value << YAML::BeginMap;
+        emit_rows(out, s, table, child_prefix);
+        out << YAML::EndMap;
+      });
 }
 
 /// Writes every row of `table` as keys of the map being emitted.
