@@ -257,7 +257,7 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
                               : params_.max_range_m;
   // Where a beam ends, or nothing when it is to be skipped.
   const auto end_of = [&](const msg::LidarPoint& p, bool& hit, int& r1, int& c1) {
-    const double range = p.range_m;
+    const double range = static_cast<double>(p.range_m);
     if (!(range > params_.min_range_m) || !std::isfinite(range)) return false;
     const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
     const double fwd = range * std::cos(b);
