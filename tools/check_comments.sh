@@ -129,7 +129,7 @@ for lang in "${!group[@]}"; do
       printf "%s:%d: [%s] %s\n", FILENAME, FNR, kind, line
       found = 1
     }
-    # True when t names a tracker number that is not a public repository's: a number after an
+    # True when t names a tracker number that is not one of a public repository: a number after an
     # "owner/repo" prefix cites a public tracker and is allowed.
     function names_issue(t) {
       gsub(/[a-z0-9_.-]+\/[a-z0-9_.-]+ +(issues?|pull requests?|pr) *#?[0-9]+/, "", t)
