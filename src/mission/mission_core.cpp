@@ -144,6 +144,8 @@ struct MissionCore::Impl {
   /// The map and its planner, for the tasks that plan (obstacle course, course 1); sized from the
   /// mission file once, here.
   void build_map() {
+    // Only the planner reads the map: without it, no map is kept or fed on the tick.
+    if (!m.planning.planner.enabled) return;
     bool plans = false;
     for (const auto& t : m.tasks) {
       plans = plans || t.type == config::TaskType::kObstacleCourse ||

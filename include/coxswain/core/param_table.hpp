@@ -85,11 +85,12 @@ template <class S, auto... Path>
 using member_type_t = std::remove_cvref_t<decltype(member_at<Path...>(std::declval<S&>()))>;
 }  // namespace detail
 
-/// A real number at the member path `Path...` of S.
-template <class S, auto... Path>
-constexpr ParamSpec<S> real_param(std::string_view key, std::string_view unit, double min,
-                                  double max, bool live, std::string_view doc) {
-  using M = detail::member_type_t<S, Path...>;
+/// A real number reached through `get`/`set`, which convert between the member and the file's
+/// unit (a window kept in nanoseconds and written in seconds).
+template <class S>
+constexpr ParamSpec<S> scaled_param(std::string_view key, std::string_view unit, double min,
+                                    double max, bool live, std::string_view doc,
+                                    double (*get)(const S&), void (*set)(S&, double)) {
   ParamSpec<S> p{};
   p.key = key;
   p.type = ParamType::kReal;
@@ -98,9 +99,20 @@ constexpr ParamSpec<S> real_param(std::string_view key, std::string_view unit, d
   p.max = max;
   p.live = live;
   p.doc = doc;
-  p.get = [](const S& s) { return static_cast<double>(detail::member_at<Path...>(s)); };
-  p.set = [](S& s, double v) { detail::member_at<Path...>(s) = static_cast<M>(v); };
+  p.get = get;
+  p.set = set;
   return p;
+}
+
+/// A real number at the member path `Path...` of S.
+template <class S, auto... Path>
+constexpr ParamSpec<S> real_param(std::string_view key, std::string_view unit, double min,
+                                  double max, bool live, std::string_view doc) {
+  using M = detail::member_type_t<S, Path...>;
+  return scaled_param<S>(
+      key, unit, min, max, live, doc,
+      [](const S& s) { return static_cast<double>(detail::member_at<Path...>(s)); },
+      [](S& s, double v) { detail::member_at<Path...>(s) = static_cast<M>(v); });
 }
 
 /// A whole number (a count, a pulse width) at the member path of S.
@@ -171,25 +183,6 @@ template <class S, auto... Path>
 constexpr ParamSpec<S> secret_param(std::string_view key, std::string_view doc) {
   ParamSpec<S> p = text_param<S, Path...>(key, doc);
   p.secret = true;
-  return p;
-}
-
-/// A real number stored in another unit: `to_file` turns the member's value into the file's
-/// unit, `from_file` back (a window kept in nanoseconds and written in seconds).
-template <class S>
-constexpr ParamSpec<S> scaled_param(std::string_view key, std::string_view unit, double min,
-                                    double max, bool live, std::string_view doc,
-                                    double (*get)(const S&), void (*set)(S&, double)) {
-  ParamSpec<S> p{};
-  p.key = key;
-  p.type = ParamType::kReal;
-  p.unit = unit;
-  p.min = min;
-  p.max = max;
-  p.live = live;
-  p.doc = doc;
-  p.get = get;
-  p.set = set;
   return p;
 }
 
