@@ -42,6 +42,11 @@ std::uint64_t le64(std::span<const std::uint8_t> b) {
   return v;
 }
 
+// The writer closes a chunk at a few MiB; a single camera frame may push one past that.
+constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{256} << 20U;
+// zstd's best case is a 128 KiB run-length block in 4 bytes; no real chunk compresses further.
+constexpr std::uint64_t kMaxZstdRatio = 32768;
+
 struct ChunkFields {
   std::uint64_t start_ns = 0, end_ns = 0, uncompressed_size = 0;
   std::uint32_t uncompressed_crc = 0;
@@ -64,7 +69,21 @@ bool parse_chunk(std::span<const std::uint8_t> content, ChunkFields& c) {
 
 /// Decompresses (or copies) a chunk's records and checks its CRC. Empty string = success.
 std::string unpack_chunk(const ChunkFields& c, std::vector<std::uint8_t>& out) {
-  if (c.uncompressed_size > (std::uint64_t{1} << 32)) return "chunk too large";
+  // A chunk's sizes come from the file: check them against what the bytes can hold before
+  // allocating, so a corrupt header cannot ask for gigabytes.
+  if (c.uncompressed_size > kMaxChunkBytes) return "chunk too large";
+  if (c.compression.empty() && c.records.size() != c.uncompressed_size) {
+    return "chunk uncompressed size mismatch";
+  }
+  if (c.compression == "zstd") {
+    const unsigned long long framed = ZSTD_getFrameContentSize(c.records.data(), c.records.size());
+    if (framed == ZSTD_CONTENTSIZE_ERROR) return "zstd: not a zstd frame";
+    // Only the first frame's size is known here; a chunk may hold several frames.
+    if (framed != ZSTD_CONTENTSIZE_UNKNOWN && framed > c.uncompressed_size) {
+      return "chunk uncompressed size mismatch";
+    }
+    if (c.uncompressed_size > c.records.size() * kMaxZstdRatio) return "chunk too large";
+  }
   out.resize(static_cast<std::size_t>(c.uncompressed_size));
   if (c.compression == "zstd") {
     const std::size_t n =

@@ -203,6 +203,41 @@ TEST(McapReader, DetectsCorruptedChunkAndDataSection) {
   fs::remove(path);
 }
 
+// A corrupt chunk header may claim gigabytes; the reader refuses it before allocating.
+TEST(McapReader, ChunkClaimingAHugeUncompressedSizeIsSkippedWithoutAllocatingIt) {
+  for (const bool compress : {true, false}) {
+    const fs::path path = temp_path("huge_chunk.mcap");
+    McapWriterOptions opt;
+    opt.compress = compress;
+    McapWriter w(opt);
+    ASSERT_TRUE(w.open(path));
+    const auto ch = w.add_channel(0, "/x", "raw");
+    ASSERT_TRUE(w.write_message(ch, 1, 1, bytes_of("PAYLOAD")));
+    ASSERT_TRUE(w.close());
+    auto bytes = read_file(path);
+    // Walk records from after the magic to the first chunk (opcode 0x06).
+    std::size_t at = 8;
+    while (at + 9 <= bytes.size() && bytes[at] != 0x06) {
+      std::uint64_t len = 0;
+      for (std::size_t i = 0; i < 8; ++i) len |= std::uint64_t{bytes[at + 1 + i]} << (8 * i);
+      at += 9 + len;
+    }
+    ASSERT_LT(at + 9 + 24, bytes.size());
+    const std::uint64_t huge = std::uint64_t{3} << 30U;  // 3 GiB
+    for (std::size_t i = 0; i < 8; ++i) {
+      bytes[at + 9 + 16 + i] = static_cast<std::uint8_t>(huge >> (8 * i));
+    }
+    McapReader r;
+    r.load(bytes);
+    McapReadReport report;
+    const auto got = read_all(r, report);
+    EXPECT_TRUE(got.empty()) << "compress=" << compress;
+    EXPECT_EQ(report.chunk_crc_errors, 1U) << "compress=" << compress;
+    EXPECT_FALSE(report.error.empty());
+    fs::remove(path);
+  }
+}
+
 TEST(McapReader, TruncationAtEveryByteRecoversEveryCompleteChunk) {
   const fs::path path = temp_path("trunc.mcap");
   McapWriter w;
