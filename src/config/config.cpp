@@ -77,7 +77,7 @@ void check(MapReader& m, const std::string& problem) {
 
 // The checks that span several keys of one section, after its table is read.
 void check_section(MapReader&, const MissionConfig&) {}
-void check_section(MapReader&, const NavigationConfig&) {}
+void check_section(MapReader& m, const NavigationConfig& n) { check(m, n.filter.validate()); }
 void check_section(MapReader& m, const guidance::GpsCalibrationParams& p) {
   check(m, p.validate());
 }

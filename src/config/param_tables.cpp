@@ -315,6 +315,120 @@ constexpr std::array kNavigation{
         "the start point marks the body origin: remove the antenna's offset first"),
     bool_param<NavigationConfig, &NavigationConfig::start_drift>(
         "start_drift", kFixed, "take calibration fixes back by the drift while waiting"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::accel_noise_mps2>(
+        "filter.accel_noise_mps2", "m/s^2", 0.0, 10.0, kFixed,
+        "unmodelled acceleration (white process noise)"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::heading_walk_deg_per_sqrt_s>(
+        "filter.heading_walk_deg_per_sqrt_s", "deg/sqrt(s)", 0.0, 10.0, kFixed,
+        "gyro noise integrated into heading"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::heading_walk_no_gyro_deg_per_sqrt_s>(
+        "filter.heading_walk_no_gyro_deg_per_sqrt_s", "deg/sqrt(s)", 0.0, 200.0, kFixed,
+        "heading process noise without a yaw rate"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gyro_bias_walk_dps_per_sqrt_s>(
+        "filter.gyro_bias_walk_dps_per_sqrt_s", "deg/s/sqrt(s)", 0.0, 1.0, kFixed,
+        "yaw-rate bias drift"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_bias_wander_sigma_m>(
+        "filter.gnss_bias_wander_sigma_m", "m", 0.0, 20.0, kFixed,
+        "GNSS bias wander (Gauss-Markov sigma) around its constant part"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_bias_tau_s>(
+        "filter.gnss_bias_tau_s", "s", 1.0, 1e5, kFixed, "correlation time of that wander"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::mag_bias_walk_deg_per_sqrt_s>(
+        "filter.mag_bias_walk_deg_per_sqrt_s", "deg/sqrt(s)", 0.0, 10.0, kFixed,
+        "magnetometer error drift"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::initial_gnss_bias_sigma_m>(
+        "filter.initial_gnss_bias_sigma_m", "m", 0.001, 100.0, kFixed,
+        "GNSS bias prior before the start calibration"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::initial_mag_bias_sigma_deg>(
+        "filter.initial_mag_bias_sigma_deg", "deg", 0.001, 90.0, kFixed, "magnetometer bias prior"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::initial_gyro_bias_sigma_dps>(
+        "filter.initial_gyro_bias_sigma_dps", "deg/s", 0.001, 10.0, kFixed, "gyro bias prior"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::initial_velocity_sigma_mps>(
+        "filter.initial_velocity_sigma_mps", "m/s", 0.001, 10.0, kFixed,
+        "velocity prior at a first fix without velocity"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::mag_noise_deg>(
+        "filter.mag_noise_deg", "deg", 0.001, 45.0, kFixed, "white magnetometer heading noise"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_sigma_floor_m>(
+        "filter.gnss_sigma_floor_m", "m", 0.001, 10.0, kFixed,
+        "single-point fix: noise floor per axis (hAcc above it)"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_float_sigma_floor_m>(
+        "filter.gnss_float_sigma_floor_m", "m", 0.001, 10.0, kFixed,
+        "RTK float: noise floor per axis"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_fixed_sigma_floor_m>(
+        "filter.gnss_fixed_sigma_floor_m", "m", 0.001, 10.0, kFixed,
+        "RTK fixed: noise floor per axis"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_unknown_sigma_m>(
+        "filter.gnss_unknown_sigma_m", "m", 0.001, 50.0, kFixed,
+        "fix without hAcc (NMEA without GST): noise per axis"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gnss_velocity_sigma_mps>(
+        "filter.gnss_velocity_sigma_mps", "m/s", 0.001, 5.0, kFixed,
+        "GNSS velocity noise per axis when the fix has no sAcc"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_min_speed_mps>(
+        "filter.cog_min_speed_mps", "m/s", 0.0, 5.0, kFixed,
+        "course over ground corrects heading only above this speed"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_max_yaw_rate_dps>(
+        "filter.cog_max_yaw_rate_dps", "deg/s", 0.001, 90.0, kFixed,
+        "... and only below this turn rate"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_crab_sigma_deg>(
+        "filter.cog_crab_sigma_deg", "deg", 0.001, 45.0, kFixed,
+        "course over ground minus heading (current, leeway)"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_interval_s>(
+        "filter.cog_interval_s", "s", 0.0, 60.0, kFixed,
+        "at most one course-over-ground update per interval"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::mag_cog_disagree_deg>(
+        "filter.mag_cog_disagree_deg", "deg", 0.001, 180.0, kFixed,
+        "mean course-over-ground minus magnetometer reported above this"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::mag_cog_window_s>(
+        "filter.mag_cog_window_s", "s", 0.001, 600.0, kFixed, "time constant of that mean"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gate_chi2_2dof>(
+        "filter.gate_chi2_2dof", "", 0.001, 100.0, kFixed,
+        "two-degree-of-freedom outlier gate (13.8 = 99.9 %)"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::gate_chi2_1dof>(
+        "filter.gate_chi2_1dof", "", 0.001, 100.0, kFixed,
+        "one-degree-of-freedom outlier gate (10.8 = 99.9 %)"),
+    int_param<NavigationConfig, &NavigationConfig::filter,
+              &guidance::NavFilterParams::max_rejected_fixes>(
+        "filter.max_rejected_fixes", "", 0, 1000, kFixed,
+        "consecutive refused fixes after which one is taken"),
+    int_param<NavigationConfig, &NavigationConfig::filter,
+              &guidance::NavFilterParams::max_rejected_headings>(
+        "filter.max_rejected_headings", "", 0, 10000, kFixed, "the same for magnetometer samples"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::max_fix_gap_s>(
+        "filter.max_fix_gap_s", "s", 0.001, 600.0, kFixed,
+        "a longer GNSS outage restarts the position at the next fix"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::start_placement_sigma_m>(
+        "filter.start_placement_sigma_m", "m", 0.001, 10.0, kFixed,
+        "the boat on the known start point, per axis"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::uncalibrated_bias_sigma_m>(
+        "filter.uncalibrated_bias_sigma_m", "m", 0.001, 50.0, kFixed,
+        "no start calibration: receiver frame vs waypoints, per axis"),
 };
 
 constexpr std::array kCourse1{

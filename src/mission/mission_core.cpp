@@ -121,8 +121,9 @@ struct MissionCore::Impl {
         calibration(mission.gps_calibration, core::NavPoint{}),
         position_filter({mission.navigation.position_gain}),
         kalman(mission.navigation.position_gain < 1.0),
+        nav(mission.navigation.filter),
         clusterer(mission.clustering) {
-    if (auto e = nav.params().validate()) throw std::invalid_argument(*e);
+    if (auto e = m.navigation.filter.validate()) throw std::invalid_argument(*e);
     mag_cal = magnetometer;
     mag_calibrated = magnetometer.hard_iron_x_ut != 0.0 || magnetometer.hard_iron_y_ut != 0.0 ||
                      magnetometer.soft_iron != std::array<double, 4>{1.0, 0.0, 0.0, 1.0};

@@ -15,6 +15,7 @@
 #include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
 #include "coxswain/guidance/gps_calibration.hpp"
+#include "coxswain/guidance/nav_filter_params.hpp"
 #include "coxswain/guidance/nav_map.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/msg/camera_detections.hpp"
@@ -119,6 +120,8 @@ struct NavigationConfig {
   bool start_drift = true;
   /// True heading of the course frame's 0 deg; empty = the heading when the mission starts.
   std::optional<double> course_zero_deg;
+  /// The GNSS + IMU Kalman filter (used when position_gain < 1).
+  guidance::NavFilterParams filter;
 };
 
 struct MissionConfig {

@@ -61,6 +61,39 @@ TEST(ParamTables, EveryRowHasAUniqueKeyADocAndADefaultWithinItsBounds) {
   EXPECT_GT(rows, 150U);
 }
 
+TEST(ParamTables, TheNavigationFilterIsTunedFromTheMissionFileAndItsBoundsAreChecked) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("coxswain_tables_nav_" + std::to_string(::getpid()) + ".yaml");
+  const std::string head = "kind: mission\nname: t\norigin: {lat_deg: 35.0, lon_deg: 128.0}\n";
+  const std::string tasks =
+      "tasks:\n  - type: hopping\n    waypoints:\n"
+      "      - {lat_deg: 35.0, lon_deg: 128.0}\n      - {lat_deg: 35.0001, lon_deg: 128.0}\n";
+  {
+    std::ofstream(path) << head << "navigation:\n  filter:\n    gnss_bias_tau_s: 120\n"
+                        << "    max_rejected_fixes: 4\n"
+                        << tasks;
+    ConfigErrors errors;
+    const MissionConfig m = load_mission_config(path.string(), errors);
+    EXPECT_TRUE(errors.empty()) << errors.format();
+    EXPECT_DOUBLE_EQ(m.navigation.filter.gnss_bias_tau_s, 120.0);
+    EXPECT_EQ(m.navigation.filter.max_rejected_fixes, 4U);
+    EXPECT_DOUBLE_EQ(m.navigation.filter.accel_noise_mps2,
+                     guidance::NavFilterParams{}.accel_noise_mps2);
+  }
+  {
+    std::ofstream(path) << head << "navigation:\n  filter:\n    gate_chi2_2dof: 0\n" << tasks;
+    ConfigErrors errors;
+    (void)load_mission_config(path.string(), errors);
+    bool gate = false;
+    for (const ConfigIssue& i : errors.issues()) {
+      gate |= i.key == "navigation.filter.gate_chi2_2dof" && i.line == 6;
+    }
+    EXPECT_TRUE(gate) << errors.format();
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(ParamTables, AFileValueOutsideTheLiveBoundsIsAnErrorAtItsLine) {
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
                                      ("coxswain_tables_" + std::to_string(::getpid()) + ".yaml");
