@@ -28,7 +28,7 @@ struct NavFilterParams {
   double gnss_float_sigma_floor_m = 0.1;   // RTK float
   double gnss_fixed_sigma_floor_m = 0.02;  // RTK fixed
   double gnss_unknown_sigma_m = 2.5;       // no hAcc (NMEA without GST): per axis
-  double gnss_velocity_sigma_mps = 0.07;   // per axis (the fix carries no sAcc)
+  double gnss_velocity_sigma_mps = 0.1;    // per axis (the fix carries no sAcc)
   // Course over ground as a heading measurement.
   double cog_min_speed_mps = 0.6;      // slower: the course is noise
   double cog_max_yaw_rate_dps = 4.0;   // turning: the antenna's swing and crab

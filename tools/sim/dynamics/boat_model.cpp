@@ -272,6 +272,10 @@ double BoatModel::resolve_contact(core::NavPoint normal, core::NavPoint point, d
   state_.u_r_mps += j * nx / params_.m11_kg;
   state_.v_r_mps += j * ny / params_.m22_kg;
   state_.r_radps += j * arm / params_.m66_kgm2;
+  // An accelerometer feels the contact force too: the impulse spread over the step. Pinned
+  // against a wall with thrust on, the two cancel and the sensed acceleration is about zero.
+  accel_body_[0] += j * nx / params_.m11_kg / dt_s_;
+  accel_body_[1] += j * ny / params_.m22_kg / dt_s_;
   return -vn;
 }
 

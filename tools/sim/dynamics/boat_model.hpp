@@ -124,7 +124,8 @@ class BoatModel {
   /// contact point moves into the obstacle, applies the impulse along normal (rigid-body masses
   /// incl. added mass, about the centre of gravity) that leaves it moving out at `restitution`
   /// times its speed into it. No friction: motion along the obstacle is kept. Returns the speed
-  /// of the contact point into the obstacle before the impulse (0 when separating).
+  /// of the contact point into the obstacle before the impulse (0 when separating). The
+  /// impulse, spread over the step, is part of the sensed acceleration (truth().accel_*).
   double resolve_contact(core::NavPoint normal, core::NavPoint point, double depth_m,
                          double restitution);
 

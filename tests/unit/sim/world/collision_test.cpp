@@ -82,6 +82,31 @@ TEST(CollisionResponse, AHullDrivenIntoAWallStopsAtItAndNeverPassesThrough) {
   EXPECT_LT(std::abs(m.truth().vel_north_mps), 0.05);
 }
 
+TEST(CollisionResponse, AnAccelerometerOnAHullPinnedAgainstAWallSensesNoForwardAcceleration) {
+  // The navigation filter integrates the sensed acceleration: a pinned boat whose thrust still
+  // showed as acceleration would be dead-reckoned through the wall.
+  const World w = walled({{5.0, -10.0}, {5.0, 10.0}});
+  const CollisionResponse response(w, config::HullConfig{});
+  dynamics::BoatModel m = boat_at({{0.0, 0.0}, 0.0});
+  m.set_pulses(kFullAhead);
+  double sensed_sum = 0.0;
+  double velocity_change = 0.0;
+  int steps = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const double before = m.truth().u_mps;
+    m.step();
+    (void)response.resolve(m);
+    if (i >= 2000) {  // long after the impact: resting on the wall under full thrust
+      sensed_sum += m.truth().accel_forward_mps2;
+      velocity_change += m.truth().u_mps - before;
+      ++steps;
+    }
+  }
+  EXPECT_NEAR(sensed_sum / steps, 0.0, 0.05);
+  // What the accelerometer senses integrates to what the hull did.
+  EXPECT_NEAR(sensed_sum * m.dt_s(), velocity_change, 0.05);
+}
+
 TEST(CollisionResponse, ABoatHittingAWallBouncesBackOnlyWithTheRestitution) {
   const World w = walled({{2.0, -10.0}, {2.0, 10.0}});
   const CollisionResponse response(w, config::HullConfig{}, {.restitution = 0.15, .passes = 4});
