@@ -379,6 +379,10 @@ constexpr std::array kNavigation{
                &guidance::NavFilterParams::gnss_velocity_sigma_mps>(
         "filter.gnss_velocity_sigma_mps", "m/s", 0.001, 5.0, kFixed,
         "GNSS velocity noise per axis when the fix has no sAcc"),
+    bool_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_heading_update>(
+        "filter.cog_heading_update", kFixed,
+        "course over ground corrects the heading (a steady current biases it)"),
     real_param<NavigationConfig, &NavigationConfig::filter,
                &guidance::NavFilterParams::cog_min_speed_mps>(
         "filter.cog_min_speed_mps", "m/s", 0.0, 5.0, kFixed,
@@ -390,7 +394,12 @@ constexpr std::array kNavigation{
     real_param<NavigationConfig, &NavigationConfig::filter,
                &guidance::NavFilterParams::cog_crab_sigma_deg>(
         "filter.cog_crab_sigma_deg", "deg", 0.001, 45.0, kFixed,
-        "course over ground minus heading (current, leeway)"),
+        "course over ground minus heading at any speed (leeway)"),
+    real_param<NavigationConfig, &NavigationConfig::filter,
+               &guidance::NavFilterParams::cog_current_mps>(
+        "filter.cog_current_mps", "m/s", 0.0, 3.0, kFixed,
+        "water current allowed for: course over ground may differ from heading by atan(current / "
+        "speed)"),
     real_param<NavigationConfig, &NavigationConfig::filter,
                &guidance::NavFilterParams::cog_interval_s>(
         "filter.cog_interval_s", "s", 0.0, 60.0, kFixed,

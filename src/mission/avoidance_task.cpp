@@ -13,6 +13,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
+#include "coxswain/guidance/nav_filter.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/perception/marker_vote.hpp"
 
@@ -43,6 +44,9 @@ class AvoidanceTask final : public AvoidingTask {
         route_(to_route(t.waypoints, frame)),
         leg_(m.waypoints, route_),
         wp_(m.waypoints),
+        k_sigma_(m.waypoints.arrival_confidence > 0.0
+                     ? guidance::normal_quantile(m.waypoints.arrival_confidence)
+                     : 0.0),
         course1_(course1),
         c1_(m.course1),
         plan_(m.planning.planner),
@@ -316,10 +320,16 @@ class AvoidanceTask final : public AvoidingTask {
       have_prev_ = true;
       return false;
     }
-    // Fallback (no buoys seen): the GNSS estimate inside the arrival radius, or passed abeam.
+    // Fallback (no buoys seen): the position estimate inside the arrival radius, or passed
+    // abeam. With the filter's covariance the estimate must be confidently inside the rule's
+    // radius, so an uncertain estimate (an outage, a bias not yet pinned) never counts a gate.
     const core::NavPoint t = target();
     const double dist = core::distance_m(p, t);
-    if (dist <= wp_.arrival_radius_m) {
+    const bool by_confidence = ctx.position_cov_valid && wp_.arrival_confidence > 0.0;
+    const bool arrived = by_confidence ? guidance::confidently_within(p, ctx.position_cov, t,
+                                                                      wp_.rule_radius_m, k_sigma_)
+                                       : dist <= wp_.arrival_radius_m;
+    if (arrived) {
       set_reason(reason_printf("arrived at waypoint %zu (%.1f m, GNSS)", index_ + 1, dist).view());
       next_waypoint(ctx, true);
       return index_ >= route_.count;
@@ -410,7 +420,9 @@ class AvoidanceTask final : public AvoidingTask {
     VizFrame& v = *ctx.viz;
     v.has_goal = true;
     v.goal = goal;
-    v.arrival_radius_m = wp_.arrival_radius_m;
+    v.arrival_radius_m = ctx.position_cov_valid && wp_.arrival_confidence > 0.0
+                             ? wp_.rule_radius_m
+                             : wp_.arrival_radius_m;
     v.active_waypoint = static_cast<std::int32_t>(index_);
     v.has_leg = true;
     v.leg_start = leg_start_;
@@ -439,6 +451,7 @@ class AvoidanceTask final : public AvoidingTask {
   Route route_;
   RouteLeg leg_;
   guidance::WaypointFollowerParams wp_;
+  double k_sigma_;  // one-sided quantile of waypoints.arrival_confidence
   bool course1_;
   config::Course1Config c1_;
   guidance::MapPlannerParams plan_;

@@ -29,10 +29,15 @@ struct NavFilterParams {
   double gnss_fixed_sigma_floor_m = 0.02;  // RTK fixed
   double gnss_unknown_sigma_m = 2.5;       // no hAcc (NMEA without GST): per axis
   double gnss_velocity_sigma_mps = 0.1;    // per axis (the fix carries no sAcc)
-  // Course over ground as a heading measurement.
+  // Course over ground as a heading measurement. Off by default: a steady current crabs the
+  // boat the same way for a whole leg, an error no white-noise model averages out (it cost
+  // docking approaches their slip in the simulator); worth it with a magnetometer that cannot
+  // be calibrated, in still water. The magnetometer-disagreement report runs either way.
+  bool cog_heading_update = false;
   double cog_min_speed_mps = 0.6;      // slower: the course is noise
   double cog_max_yaw_rate_dps = 4.0;   // turning: the antenna's swing and crab
-  double cog_crab_sigma_deg = 6.0;     // current and leeway: COG - heading
+  double cog_crab_sigma_deg = 6.0;     // leeway: COG - heading at any speed
+  double cog_current_mps = 0.2;        // water current the crab angle is allowed for
   double cog_interval_s = 1.0;         // at most one COG update per interval
   double mag_cog_disagree_deg = 15.0;  // mean |COG - magnetometer| that is reported
   double mag_cog_window_s = 10.0;      // time constant of that mean

@@ -46,8 +46,9 @@ std::optional<std::string> NavFilterParams::validate() const {
     return "navigation filter: measurement sigmas must be > 0";
   }
   if (!non_negative(cog_min_speed_mps) || !positive(cog_max_yaw_rate_dps) ||
-      !positive(cog_crab_sigma_deg) || !non_negative(cog_interval_s) ||
-      !positive(mag_cog_disagree_deg) || !positive(mag_cog_window_s)) {
+      !positive(cog_crab_sigma_deg) || !non_negative(cog_current_mps) ||
+      !non_negative(cog_interval_s) || !positive(mag_cog_disagree_deg) ||
+      !positive(mag_cog_window_s)) {
     return "navigation filter: course-over-ground settings out of range";
   }
   if (!positive(gate_chi2_2dof) || !positive(gate_chi2_1dof)) {
@@ -446,12 +447,16 @@ void NavFilter::update_cog(const msg::GnssFix& q) {
     mag_disagrees_ =
         mag_cog_weight_ >= 0.5 && std::abs(mag_cog_mean_deg_) > p_.mag_cog_disagree_deg;
   }
+  if (!p_.cog_heading_update) return;
   Eigen::Matrix<double, 1, kStates> H = Eigen::Matrix<double, 1, kStates>::Zero();
   H(0, kPsi) = 1.0;
   Eigen::Matrix<double, 1, 1> y;
   y(0) = wrap_rad(cog - x_(kPsi));
   const double sv = p_.gnss_velocity_sigma_mps / speed;
-  const double crab = p_.cog_crab_sigma_deg * kDegToRad;
+  // A water current crabs the boat: its course differs from its heading by up to
+  // atan(current / speed), most at low speed (a docking approach).
+  const double crab =
+      std::hypot(p_.cog_crab_sigma_deg * kDegToRad, std::atan2(p_.cog_current_mps, speed));
   Eigen::Matrix<double, 1, 1> R;
   R(0, 0) = sv * sv + crab * crab;
   if (update<1>(y, H, R, p_.gate_chi2_1dof, false) == NavUpdate::kUsed) ++counters_.cog_used;

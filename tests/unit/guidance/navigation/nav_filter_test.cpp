@@ -184,14 +184,26 @@ TEST(NavFilter, TheStartCalibrationRemovesAnEightMetreBias) {
   EXPECT_LT(f.position_covariance().sigma_major_m(), 0.6);
 }
 
-TEST(NavFilter, CourseOverGroundCorrectsAMagnetometerOffset) {
-  NavFilter f;
+TEST(NavFilter, CourseOverGroundCorrectsAMagnetometerOffsetWhenEnabled) {
+  NavFilterParams p;
+  p.cog_heading_update = true;
+  NavFilter f(p);
   Scenario sc;
   sc.mag_bias_deg = 12.0;
   sail(f, sc, 120.0, [](double, const Truth&, core::NavPoint&) { return true; });
   EXPECT_LT(std::abs(sc.heading_error_deg.back()), 4.0);
   EXPECT_NEAR(f.mag_bias_deg(), 12.0, 4.0);
   EXPECT_FALSE(f.mag_disagrees());
+}
+
+TEST(NavFilter, ByDefaultCourseOverGroundLeavesTheHeadingToTheMagnetometer) {
+  // A steady current would bias a heading taken from the course for a whole leg.
+  NavFilter f;
+  Scenario sc;
+  sc.mag_bias_deg = 12.0;
+  sail(f, sc, 120.0, [](double, const Truth&, core::NavPoint&) { return true; });
+  EXPECT_GT(std::abs(sc.heading_error_deg.back()), 8.0);
+  EXPECT_EQ(f.counters().cog_used, 0U);
 }
 
 TEST(NavFilter, ReportsAMagnetometerThatDisagreesWithCourseOverGround) {
