@@ -239,6 +239,18 @@ class Avoidance {
   };
   std::array<BinBlock, AngleBins::kMaxBins / kBlockBins + 1> blocks_{};
   std::size_t block_count_ = 0;
+  // What decide() derives from the obstacles alone (bins, swept-hull limits, path ranges),
+  // kept for the next call: between two scans the mission decides every tick on the same list
+  // with a new goal, and only the choice among the bins has to be made again. Reused only when
+  // every segment's end points are the same bit for bit.
+  [[nodiscard]] bool same_geometry(const perception::ObstacleList& obstacles) const;
+  bool geometry_valid_ = false;
+  std::uint32_t geometry_count_ = 0;
+  std::array<std::array<double, 4>, perception::ObstacleList::kMaxSegments> geometry_segments_{};
+  std::array<double, AngleBins::kMaxBins> geometry_range_m_{};
+  double geometry_sweep_port_deg_ = 180.0;
+  double geometry_sweep_starboard_deg_ = 180.0;
+  double geometry_nearest_m_ = AngleBins::kNoObstacle;
   Side prev_side_ = Side::kNone;
   core::TimeNs side_since_ns_ = core::kNeverNs;  // when prev_side_ was last switched to
   core::TimeNs side_used_ns_ = core::kNeverNs;   // last tick prev_side_ was steered on

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "coxswain/core/angles.hpp"
@@ -687,11 +688,30 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     return out;
   }
 
-  const double hull_m = params_.half_beam_m + params_.clearance_m;
-  bins_.fill(obstacles, hull_m, params_.detection_range_m);
-  out.nearest_m = bins_.min_range_m();
-  compute_sweep(obstacles);
-  compute_path_ranges(obstacles);
+  if (same_geometry(obstacles)) {
+    std::copy_n(geometry_range_m_.begin(), n, range_m_.begin());
+    sweep_port_deg_ = geometry_sweep_port_deg_;
+    sweep_starboard_deg_ = geometry_sweep_starboard_deg_;
+    out.nearest_m = geometry_nearest_m_;
+  } else {
+    const double hull_m = params_.half_beam_m + params_.clearance_m;
+    bins_.fill(obstacles, hull_m, params_.detection_range_m);
+    out.nearest_m = bins_.min_range_m();
+    compute_sweep(obstacles);
+    compute_path_ranges(obstacles);
+    geometry_count_ =
+        std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+    for (std::uint32_t k = 0; k < geometry_count_; ++k) {
+      const auto& seg = obstacles.segments[k];
+      geometry_segments_[k] = {seg.begin.forward_m, seg.begin.starboard_m, seg.end.forward_m,
+                               seg.end.starboard_m};
+    }
+    std::copy_n(range_m_.begin(), n, geometry_range_m_.begin());
+    geometry_sweep_port_deg_ = sweep_port_deg_;
+    geometry_sweep_starboard_deg_ = sweep_starboard_deg_;
+    geometry_nearest_m_ = out.nearest_m;
+    geometry_valid_ = true;
+  }
   out.sweep_port_deg = sweep_port_deg_;
   out.sweep_starboard_deg = sweep_starboard_deg_;
 
@@ -819,7 +839,22 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   return out;
 }
 
+bool Avoidance::same_geometry(const perception::ObstacleList& obstacles) const {
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  if (!geometry_valid_ || count != geometry_count_) return false;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const auto& seg = obstacles.segments[k];
+    const std::array<double, 4> now{seg.begin.forward_m, seg.begin.starboard_m, seg.end.forward_m,
+                                    seg.end.starboard_m};
+    // Bit for bit (so -0.0 and 0.0 differ and a NaN equals itself): the same inputs.
+    if (std::memcmp(now.data(), geometry_segments_[k].data(), sizeof(now)) != 0) return false;
+  }
+  return true;
+}
+
 void Avoidance::decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out) {
+  geometry_valid_ = false;  // the bins are used differently here
   // Faithful to the 2022 code: an obstacle counts only if one of its END angles lies inside
   // the fan; its distance is that of its FIRST point; the margin is a FIXED angle; the bins from
   // the smaller to the larger end angle (plus margin) are dangerous.
