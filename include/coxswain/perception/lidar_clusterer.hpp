@@ -4,6 +4,7 @@
 // (A) group neighbouring returns, (B) split each group at the point farthest from its chord,
 // (C) classify long pieces as walls, (D) split walls into bounded pieces; each final piece becomes
 // an ObstacleSegment in the body frame. Also fills the closest range per bearing bin.
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -141,7 +142,21 @@ class LidarClusterer {
   static constexpr std::uint16_t kNoBin = 0xFFFF;
   static constexpr std::size_t kBeamCapacity = 2 * msg::LidarScan::kMaxPoints;
 
-  [[nodiscard]] const Beam& beam(float bearing_deg);
+  // The cached entry of a bearing (scan order), else fresh_beam().
+  [[nodiscard]] const Beam& beam(float bearing_deg) {
+    while (beam_cursor_ < beam_count_ && beams_[beam_cursor_].raw_deg < bearing_deg) {
+      ++beam_cursor_;
+    }
+    if (beam_cursor_ < beam_count_ && std::bit_cast<std::uint32_t>(beams_[beam_cursor_].raw_deg) ==
+                                          std::bit_cast<std::uint32_t>(bearing_deg)) {
+      ++beam_hits_;
+      Beam& hit = beams_[beam_cursor_++];
+      hit.used_scan = beam_scan_;
+      return hit;
+    }
+    return fresh_beam(bearing_deg);
+  }
+  [[nodiscard]] const Beam& fresh_beam(float bearing_deg);
   void finish_beams();
   void filter_points(const msg::LidarScan& scan);
   void group_points();

@@ -136,15 +136,7 @@ void LidarClusterer::process(const msg::LidarScan& scan, ObstacleList& out, Rang
   out_ = nullptr;
 }
 
-const LidarClusterer::Beam& LidarClusterer::beam(float bearing_deg) {
-  while (beam_cursor_ < beam_count_ && beams_[beam_cursor_].raw_deg < bearing_deg) ++beam_cursor_;
-  if (beam_cursor_ < beam_count_ && std::bit_cast<std::uint32_t>(beams_[beam_cursor_].raw_deg) ==
-                                        std::bit_cast<std::uint32_t>(bearing_deg)) {
-    ++beam_hits_;
-    Beam& hit = beams_[beam_cursor_++];
-    hit.used_scan = beam_scan_;
-    return hit;
-  }
+const LidarClusterer::Beam& LidarClusterer::fresh_beam(float bearing_deg) {
   // Not cached: computed exactly as without the cache, and merged into the list after this
   // scan (one lookup per return, so fresh_beams_ has room).
   Beam& e = fresh_beams_[fresh_count_++];
@@ -274,12 +266,16 @@ void LidarClusterer::group_points() {
   // first break instead, so the wrapping group comes out contiguous (and last).
   std::uint32_t offset = 0;
   if (params_.merge_across_seam && n > 1 && !breaks_scratch(walk_source(n - 1), walk_source(0))) {
+    std::uint32_t prev = walk_source(0);
     for (std::uint32_t k = 1; k < n; ++k) {
-      if (breaks_scratch(walk_source(k - 1), walk_source(k))) {
+      const std::uint32_t cur =
+          params_.walk_clockwise ? (prev + 1 == n ? 0 : prev + 1) : (prev == 0 ? n - 1 : prev - 1);
+      if (breaks_scratch(prev, cur)) {
         offset = k;
         stats_.seam_merged = true;
         break;
       }
+      prev = cur;
     }
   }
   // One pass: copy into walk order (stepping through the scratch arrays without a division)
