@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "coxswain/core/angles.hpp"
@@ -14,6 +14,12 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTieEps = 1e-9;
+
+// core::angle_diff_deg with its common case (already in range) inline: the same value.
+inline double diff_deg(double to_deg, double from_deg) {
+  const double d = to_deg - from_deg;
+  return d > -180.0 && d <= 180.0 ? d : core::wrap_deg(d);
+}
 
 bool tied(double a, double b) { return std::abs(a - b) <= kTieEps * (1.0 + std::abs(a)); }
 
@@ -356,7 +362,7 @@ bool Avoidance::compute_costs(double limit_m) {
   for (std::size_t j = 0; j < n; ++j) {
     const double c = bins_.center_deg(j);
     const double d = range_m_[j];
-    const double turn = std::abs(core::angle_diff_deg(c, goal_deg_));
+    const double turn = std::abs(diff_deg(c, goal_deg_));
     double cost = kInf;
     if (swept_out(c)) {
       // The hull would swing into an obstacle on the way: refused at every range.
@@ -387,8 +393,8 @@ std::size_t Avoidance::best_in(std::size_t first, std::size_t last, double goal_
     }
     if (!tied(cost_[j], cost_[best])) continue;
     // Within one side of the goal: nearer the goal, then the smaller turn.
-    const double tj = std::abs(core::angle_diff_deg(bins_.center_deg(j), goal_deg));
-    const double tb = std::abs(core::angle_diff_deg(bins_.center_deg(best), goal_deg));
+    const double tj = std::abs(diff_deg(bins_.center_deg(j), goal_deg));
+    const double tb = std::abs(diff_deg(bins_.center_deg(best), goal_deg));
     if (tj < tb - kTieEps ||
         (tied(tj, tb) && std::abs(bins_.center_deg(j)) < std::abs(bins_.center_deg(best)))) {
       best = j;
@@ -403,7 +409,7 @@ double Avoidance::free_room(Side side, double window_deg, double limit_m) const 
   double room = 0.0;
   const double sign = side == Side::kPort ? -1.0 : 1.0;
   for (std::size_t j = 0; j < bins_.size(); ++j) {
-    const double off = sign * core::angle_diff_deg(bins_.center_deg(j), goal_deg_);
+    const double off = sign * diff_deg(bins_.center_deg(j), goal_deg_);
     if (off > 0.0 && off <= window_deg) {
       room += std::min(range_m_[j], params_.detection_range_m) / limit_m;
     }
@@ -425,8 +431,8 @@ std::size_t Avoidance::most_open_bin(double goal_deg) const {
     if (rj > rb) {
       best = j;
     } else if (rj == rb) {
-      const double tj = std::abs(core::angle_diff_deg(bins_.center_deg(j), goal_deg));
-      const double tb = std::abs(core::angle_diff_deg(bins_.center_deg(best), goal_deg));
+      const double tj = std::abs(diff_deg(bins_.center_deg(j), goal_deg));
+      const double tb = std::abs(diff_deg(bins_.center_deg(best), goal_deg));
       // Nearer the goal; on a full tie the later (starboard) bin, the COLREG-preferred side.
       if (tj <= tb + kTieEps) best = j;
     }
@@ -843,14 +849,17 @@ bool Avoidance::same_geometry(const perception::ObstacleList& obstacles) const {
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   if (!geometry_valid_ || count != geometry_count_) return false;
+  // Bit for bit (so -0.0 and 0.0 differ and a NaN equals itself): the same inputs.
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  std::uint64_t differ = 0;
   for (std::uint32_t k = 0; k < count; ++k) {
     const auto& seg = obstacles.segments[k];
-    const std::array<double, 4> now{seg.begin.forward_m, seg.begin.starboard_m, seg.end.forward_m,
-                                    seg.end.starboard_m};
-    // Bit for bit (so -0.0 and 0.0 differ and a NaN equals itself): the same inputs.
-    if (std::memcmp(now.data(), geometry_segments_[k].data(), sizeof(now)) != 0) return false;
+    const std::array<double, 4>& was = geometry_segments_[k];
+    differ |= (bits(seg.begin.forward_m) ^ bits(was[0])) |
+              (bits(seg.begin.starboard_m) ^ bits(was[1])) |
+              (bits(seg.end.forward_m) ^ bits(was[2])) | (bits(seg.end.starboard_m) ^ bits(was[3]));
   }
-  return true;
+  return differ == 0;
 }
 
 void Avoidance::decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out) {
@@ -899,7 +908,7 @@ void Avoidance::decide_naive(const perception::ObstacleList& obstacles, Avoidanc
   for (std::size_t j = 0; j < n; ++j) {
     if (!(cost_[j] < kInf)) continue;
     const double c = bins_.center_deg(j);
-    const double turn = std::abs(core::angle_diff_deg(c, goal_deg_));
+    const double turn = std::abs(diff_deg(c, goal_deg_));
     if (turn < best_turn || (turn == best_turn && std::abs(c) < best_abs)) {
       best = j;
       best_turn = turn;
