@@ -6,6 +6,8 @@
 namespace coxswain::core {
 
 double wrap_deg(double angle_deg) {
+  // Already in range (most calls): fmod would return it unchanged, exactly.
+  if (angle_deg > -180.0 && angle_deg <= 180.0) return angle_deg;
   if (!std::isfinite(angle_deg)) return angle_deg;
   double r = std::fmod(angle_deg, 360.0);  // (-360, 360)
   if (r <= -180.0) r += 360.0;
@@ -22,6 +24,7 @@ double wrap_rad(double angle_rad) {
 }
 
 double wrap_deg_360(double angle_deg) {
+  if (angle_deg >= 0.0 && angle_deg < 360.0) return angle_deg;  // as fmod would return it
   if (!std::isfinite(angle_deg)) return angle_deg;
   double r = std::fmod(angle_deg, 360.0);
   if (r < 0.0) r += 360.0;

@@ -162,12 +162,15 @@ class Avoidance {
   bool compute_costs(double limit_m);
   // Sets sweep_port_deg_ / sweep_starboard_deg_ from the obstacles (swept-hull check).
   void compute_sweep(const perception::ObstacleList& obstacles);
-  [[nodiscard]] double sweep_turn_limit(const perception::ObstacleList& obstacles,
-                                        double side_sign);
+  // Largest allowed turn on one side (side 0 = port, 1 = starboard) over the segments that
+  // compute_sweep() gathered.
+  [[nodiscard]] double sweep_turn_limit(const perception::ObstacleList& obstacles, int side);
   // Fills range_m_: per bin, how far the boat sails along its predicted path (the arc to the
   // bin's heading, then straight) before an obstacle comes within half_beam_m + clearance_m of
   // the centre line; the bins' straight-ray range when the sweep is off.
   void compute_path_ranges(const perception::ObstacleList& obstacles);
+  // Lowers range_m_[j] to where the segment a-b enters bin j's corridor (half-width w).
+  void path_range_exact(std::size_t j, double af, double as, double bf, double bs, double w);
   [[nodiscard]] bool swept_out(double center_deg) const {
     return center_deg > sweep_starboard_deg_ || -center_deg > sweep_port_deg_;
   }
@@ -193,9 +196,61 @@ class Avoidance {
   std::array<double, AngleBins::kMaxBins> arc_cos_{};
   std::array<double, AngleBins::kMaxBins> arc_sin_{};
   std::array<double, AngleBins::kMaxBins> arc_len_m_{};
-  // Scratch for the swept-hull check: the segments within reach and the room each must keep.
+  // The swept hull's predicted poses depend on the boat alone, so they are set up once: per
+  // side, each step's heading change (degrees), cos/sin of the turn and the body origin's
+  // position, all in the body frame of now; the hull box's centre at that pose; the turning
+  // centre. The motion is a rotation about the turning centre, so a segment whose distances
+  // from it never meet the hull box's (plus the room) cannot be touched at any step.
+  static constexpr std::size_t kMaxSweepSteps = 361;  // 180 deg in sweep_step_deg >= 0.5
+  struct SweepSide {
+    std::size_t steps = 0;
+    double max_turn_deg = 0.0;
+    double centre_f_m = 0.0;  // turning centre
+    double centre_s_m = 0.0;
+    double box_near_m = 0.0;  // hull box's nearest and farthest points from the centre
+    double box_far_m = 0.0;
+    std::array<double, kMaxSweepSteps> a_deg{};
+    std::array<double, kMaxSweepSteps> cos{};
+    std::array<double, kMaxSweepSteps> sin{};
+    std::array<double, kMaxSweepSteps> origin_f_m{};
+    std::array<double, kMaxSweepSteps> origin_s_m{};
+    std::array<double, kMaxSweepSteps> box_f_m{};  // hull box centre
+    std::array<double, kMaxSweepSteps> box_s_m{};
+  };
+  std::array<SweepSide, 2> sweep_sides_{};
+  double box_radius_m_ = 0.0;  // hull box centre to a corner
+  // Scratch for the swept-hull check: the segments within reach and the room each must keep;
+  // those a side must test.
   std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> sweep_index_{};
   std::array<double, perception::ObstacleList::kMaxSegments> sweep_room_m_{};
+  std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> side_index_{};
+  std::size_t sweep_count_ = 0;
+  // Blocks of neighbouring bins for the path ranges' first, coarse test.
+  static constexpr std::size_t kBlockBins = 8;
+  struct BinBlock {
+    double origin_f_m = 0.0;  // arc end of the block's first bin
+    double origin_s_m = 0.0;
+    double lo_cos = 1.0;  // direction of its first bin
+    double lo_sin = 0.0;
+    double hi_cos = 1.0;  // direction of its last bin
+    double hi_sin = 0.0;
+    double radius_m = 0.0;  // farthest arc end of the block from origin
+    bool wedge = false;     // the directions turn one way through the block (test usable)
+  };
+  std::array<BinBlock, AngleBins::kMaxBins / kBlockBins + 1> blocks_{};
+  std::size_t block_count_ = 0;
+  // What decide() derives from the obstacles alone (bins, swept-hull limits, path ranges),
+  // kept for the next call: between two scans the mission decides every tick on the same list
+  // with a new goal, and only the choice among the bins has to be made again. Reused only when
+  // every segment's end points are the same bit for bit.
+  [[nodiscard]] bool same_geometry(const perception::ObstacleList& obstacles) const;
+  bool geometry_valid_ = false;
+  std::uint32_t geometry_count_ = 0;
+  std::array<std::array<double, 4>, perception::ObstacleList::kMaxSegments> geometry_segments_{};
+  std::array<double, AngleBins::kMaxBins> geometry_range_m_{};
+  double geometry_sweep_port_deg_ = 180.0;
+  double geometry_sweep_starboard_deg_ = 180.0;
+  double geometry_nearest_m_ = AngleBins::kNoObstacle;
   Side prev_side_ = Side::kNone;
   core::TimeNs side_since_ns_ = core::kNeverNs;  // when prev_side_ was last switched to
   core::TimeNs side_used_ns_ = core::kNeverNs;   // last tick prev_side_ was steered on

@@ -4,6 +4,7 @@
 // (A) group neighbouring returns, (B) split each group at the point farthest from its chord,
 // (C) classify long pieces as walls, (D) split walls into bounded pieces; each final piece becomes
 // an ObstacleSegment in the body frame. Also fills the closest range per bearing bin.
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -120,17 +121,43 @@ class LidarClusterer {
   [[nodiscard]] const LidarClusterStats& last_stats() const { return stats_; }
 
  private:
-  struct WorkPoint {
-    double x_m;  // forward
-    double y_m;  // starboard
-    float range_m;
-    float bearing_deg;
-  };
-  struct Span {  // [begin, end) into points_
+  struct Span {  // [begin, end) into the work arrays
     std::uint32_t begin;
     std::uint32_t end;
   };
+  // What a beam's bearing alone decides. A scanner repeats its geometry scan after scan, so the
+  // trigonometry is kept in a list sorted by bearing and looked up by walking it alongside the
+  // next (sorted) scan; a bearing found bit for bit is reused, any other is computed as before,
+  // so the values are exactly those of a fresh computation. The list is the union of the recent
+  // scans' bearings (a beam without a return now and then keeps its entry); when few bearings
+  // repeat (a scanner whose angles drift), only the last scan's are kept.
+  struct Beam {
+    float raw_deg = 0.0F;         // the bearing as the scan gives it (the key, bit for bit)
+    float bearing_deg = 0.0F;     // wrapped into (-180, 180]
+    std::uint32_t used_scan = 0;  // the last scan that looked it up
+    std::uint16_t bin = 0;        // RangeProfile bin, kNoBin when the bearing is not finite
+    double cos = 0.0;             // of the wrapped bearing
+    double sin = 0.0;
+  };
+  static constexpr std::uint16_t kNoBin = 0xFFFF;
+  static constexpr std::size_t kBeamCapacity = 2 * msg::LidarScan::kMaxPoints;
 
+  // The cached entry of a bearing (scan order), else fresh_beam().
+  [[nodiscard]] const Beam& beam(float bearing_deg) {
+    while (beam_cursor_ < beam_count_ && beams_[beam_cursor_].raw_deg < bearing_deg) {
+      ++beam_cursor_;
+    }
+    if (beam_cursor_ < beam_count_ && std::bit_cast<std::uint32_t>(beams_[beam_cursor_].raw_deg) ==
+                                          std::bit_cast<std::uint32_t>(bearing_deg)) {
+      ++beam_hits_;
+      Beam& hit = beams_[beam_cursor_++];
+      hit.used_scan = beam_scan_;
+      return hit;
+    }
+    return fresh_beam(bearing_deg);
+  }
+  [[nodiscard]] const Beam& fresh_beam(float bearing_deg);
+  void finish_beams();
   void filter_points(const msg::LidarScan& scan);
   void group_points();
   void split_group(Span group);
@@ -138,19 +165,40 @@ class LidarClusterer {
   void emit_wall(Span piece);
   void emit_segment(Span piece, ObstacleKind kind);
   void fill_profile(RangeProfile& profile) const;
-  [[nodiscard]] double gap_limit_m(const WorkPoint& a, const WorkPoint& b) const;
-  [[nodiscard]] bool breaks(const WorkPoint& a, const WorkPoint& b) const;
+  // Walk index -> index into the scan-order scratch arrays.
+  [[nodiscard]] std::uint32_t walk_source(std::uint32_t walk_index) const;
+  [[nodiscard]] bool breaks_scratch(std::uint32_t a, std::uint32_t b) const;
 
   LidarClusterParams params_;
   LidarClusterStats stats_;
-  float scan_max_range_m_ = 0.0F;
+  std::uint32_t profile_bins_ = 0;
   std::uint32_t point_count_ = 0;
+  std::uint32_t walk_start_ = 0;  // scratch index of the walk's first return
   std::uint32_t group_count_ = 0;
   std::uint32_t stack_size_ = 0;
   ObstacleList* out_ = nullptr;
-  // Fixed-capacity work arrays, sized once in the constructor.
-  std::vector<WorkPoint> filtered_;  // after filters, in walk order
-  std::vector<WorkPoint> points_;    // filtered_, rotated so a wrapping group is contiguous
+  // Fixed-capacity arrays, sized once in the constructor (structure of arrays: each pass reads
+  // only the fields it needs).
+  std::vector<Beam> beams_;        // from the previous scans, sorted by raw_deg
+  std::vector<Beam> fresh_beams_;  // computed during this scan, in scan order
+  std::vector<Beam> merged_beams_;
+  std::uint32_t beam_count_ = 0;
+  std::uint32_t fresh_count_ = 0;
+  std::uint32_t beam_cursor_ = 0;  // walk position in beams_
+  std::uint32_t beam_scan_ = 0;    // scans looked up so far
+  std::uint32_t beam_hits_ = 0;
+  std::uint32_t beam_keep_scans_ = 1;  // entries unused this many scans are dropped
+  // Returns after the filters, in scan order (bearing ascending).
+  std::vector<double> scratch_x_m_;
+  std::vector<double> scratch_y_m_;
+  std::vector<float> scratch_range_m_;
+  std::vector<float> scratch_bearing_deg_;
+  std::vector<std::uint16_t> scratch_bin_;
+  // The same in walk order, rotated so a group wrapping across the seam is contiguous.
+  std::vector<double> x_m_;  // forward
+  std::vector<double> y_m_;  // starboard
+  std::vector<float> range_m_;
+  std::vector<std::uint16_t> bin_;
   std::vector<Span> groups_;
   std::vector<Span> stack_;  // pending halves of (B)
 };

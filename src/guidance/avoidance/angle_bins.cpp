@@ -168,8 +168,17 @@ void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corri
       if (!clip(al0, ald, t_lo, t_hi)) continue;
       // |P(t)|^2 is convex in t, so the closest point of the piece is the clamped minimiser.
       const double tc = std::clamp(t_star, t_lo, t_hi);
-      const double d = std::hypot(af + tc * df, as + tc * ds);
-      range_m_[j] = std::min(range_m_[j], d);
+      if (tc == t_star) {
+        range_m_[j] = std::min(range_m_[j], d_min);  // the same point, so the same hypot()
+        continue;
+      }
+      // A point whose square is clearly beyond the bin's range cannot lower it: hypot() only
+      // when it might.
+      const double pf = af + tc * df;
+      const double ps = as + tc * ds;
+      const double r_j = range_m_[j];
+      if (pf * pf + ps * ps >= r_j * r_j * (1.0 + 1e-9)) continue;
+      range_m_[j] = std::min(r_j, std::hypot(pf, ps));
     }
   }
 }

@@ -2,6 +2,8 @@
 #include "coxswain/guidance/avoidance.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -12,6 +14,12 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTieEps = 1e-9;
+
+// core::angle_diff_deg with its common case (already in range) inline: the same value.
+inline double diff_deg(double to_deg, double from_deg) {
+  const double d = to_deg - from_deg;
+  return d > -180.0 && d <= 180.0 ? d : core::wrap_deg(d);
+}
 
 bool tied(double a, double b) { return std::abs(a - b) <= kTieEps * (1.0 + std::abs(a)); }
 
@@ -32,12 +40,21 @@ double point_box_distance(double f, double s, const HullBox& b) {
   return std::hypot(df, ds);
 }
 
-double point_segment_distance(double pf, double ps, double af, double as, double bf, double bs) {
+// hypot() of point p to its nearest point of segment a-b > limit_m, decided on squares unless
+// rounding could matter.
+bool point_segment_farther_than(double pf, double ps, double af, double as, double bf, double bs,
+                                double limit_m) {
   const double df = bf - af;
   const double ds = bs - as;
   const double dd = df * df + ds * ds;
   const double t = dd < 1e-18 ? 0.0 : std::clamp(((pf - af) * df + (ps - as) * ds) / dd, 0.0, 1.0);
-  return std::hypot(pf - (af + t * df), ps - (as + t * ds));
+  const double x = pf - (af + t * df);
+  const double y = ps - (as + t * ds);
+  const double sq = x * x + y * y;
+  const double limit_sq = limit_m * limit_m;
+  if (sq > limit_sq * (1.0 + 1e-9)) return true;
+  if (sq < limit_sq * (1.0 - 1e-9)) return false;
+  return std::hypot(x, y) > limit_m;
 }
 
 // True when the segment a-b crosses the box (Liang-Barsky clipping).
@@ -64,17 +81,86 @@ bool segment_crosses_box(double af, double as, double bf, double bs, const HullB
   return true;
 }
 
-// Distance between a segment and the box; 0 when they touch or overlap.
-double segment_box_distance(double af, double as, double bf, double bs, const HullBox& b) {
-  if (segment_crosses_box(af, as, bf, bs, b)) return 0.0;
-  double d = std::min(point_box_distance(af, as, b), point_box_distance(bf, bs, b));
+// The six candidate offsets whose lengths segment_box_distance takes the least of: each end to
+// the box, each box corner to the segment (the same arithmetic as point_box_distance and
+// a point-to-segment hypot()).
+struct BoxOffsets {
+  std::array<double, 6> x{};
+  std::array<double, 6> y{};
+  double min_sq = 0.0;
+};
+
+BoxOffsets box_offsets(double af, double as, double bf, double bs, const HullBox& b) {
+  BoxOffsets o;
+  const auto to_box = [&](std::size_t i, double f, double s) {
+    o.x[i] = std::max({b.aft_m - f, 0.0, f - b.fore_m});
+    o.y[i] = std::max(std::abs(s) - b.half_m, 0.0);
+  };
+  to_box(0, af, as);
+  to_box(1, bf, bs);
+  const double df = bf - af;
+  const double ds = bs - as;
+  const double dd = df * df + ds * ds;
+  std::size_t i = 2;
   for (const double cf : {b.aft_m, b.fore_m}) {
     for (const double cs : {-b.half_m, b.half_m}) {
-      d = std::min(d, point_segment_distance(cf, cs, af, as, bf, bs));
+      const double t =
+          dd < 1e-18 ? 0.0 : std::clamp(((cf - af) * df + (cs - as) * ds) / dd, 0.0, 1.0);
+      o.x[i] = cf - (af + t * df);
+      o.y[i] = cs - (as + t * ds);
+      ++i;
     }
+  }
+  o.min_sq = kInf;
+  for (std::size_t k = 0; k < 6; ++k)
+    o.min_sq = std::min(o.min_sq, o.x[k] * o.x[k] + o.y[k] * o.y[k]);
+  return o;
+}
+
+// Relative band within which squared lengths leave the order of their hypot() to rounding.
+constexpr double kSqBand = 1e-9;
+
+// The least hypot() of the offsets, taken only over those whose squares come near the least.
+double least_length(const BoxOffsets& o) {
+  double d = kInf;
+  const double cap = o.min_sq * (1.0 + kSqBand);
+  for (std::size_t k = 0; k < 6; ++k) {
+    if (o.x[k] * o.x[k] + o.y[k] * o.y[k] <= cap) d = std::min(d, std::hypot(o.x[k], o.y[k]));
   }
   return d;
 }
+
+// Distance between a segment and the box; 0 when they touch or overlap.
+double segment_box_distance(double af, double as, double bf, double bs, const HullBox& b) {
+  if (segment_crosses_box(af, as, bf, bs, b)) return 0.0;
+  return least_length(box_offsets(af, as, bf, bs, b));
+}
+
+// segment_box_distance(...) < room_m, mostly decided on squares.
+bool segment_box_closer_than(double af, double as, double bf, double bs, const HullBox& b,
+                             double room_m) {
+  if (segment_crosses_box(af, as, bf, bs, b)) return 0.0 < room_m;
+  const BoxOffsets o = box_offsets(af, as, bf, bs, b);
+  const double room_sq = room_m * room_m;
+  if (o.min_sq >= room_sq * (1.0 + kSqBand)) return false;
+  if (o.min_sq < room_sq * (1.0 - kSqBand)) return true;
+  return least_length(o) < room_m;
+}
+
+// Squared distance from a point to a segment (start a, direction d, inv_dd = 1 / |d|^2 or 0).
+double point_segment_sq(double pf, double ps, double af, double as, double df, double ds,
+                        double inv_dd) {
+  const double wf = pf - af;
+  const double ws = ps - as;
+  const double t = std::clamp((wf * df + ws * ds) * inv_dd, 0.0, 1.0);
+  const double ef = wf - t * df;
+  const double es = ws - t * ds;
+  return ef * ef + es * es;
+}
+
+// Margin of the culling tests: far above rounding (1e-15 m at these sizes), far below anything
+// that matters, so a culled pair is one the exact test would have passed over too.
+constexpr double kCullEps = 1e-6;
 
 }  // namespace
 
@@ -193,6 +279,73 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
     arc_end_s_m_[j] = sign * radius * (1.0 - arc_cos_[j]) - p * arc_sin_[j];
     arc_len_m_[j] = radius * a;
   }
+  // Blocks of bins for the path ranges' first test: the corridors of a block's bins all lie in
+  // the wedge between its first and last bin's directions, from its first bin's arc end,
+  // widened by the farthest other arc end of the block (valid while the directions turn one
+  // way through the block; otherwise every bin of it is tested).
+  const std::size_t n_bins = bins_.size();
+  block_count_ = (n_bins + kBlockBins - 1) / kBlockBins;
+  for (std::size_t b = 0; b < block_count_; ++b) {
+    BinBlock& blk = blocks_[b];
+    const std::size_t j0 = b * kBlockBins;
+    const std::size_t j1 = std::min(n_bins, j0 + kBlockBins) - 1;
+    blk.origin_f_m = arc_end_f_m_[j0];
+    blk.origin_s_m = arc_end_s_m_[j0];
+    blk.lo_cos = arc_cos_[j0];
+    blk.lo_sin = arc_sin_[j0];
+    blk.hi_cos = arc_cos_[j1];
+    blk.hi_sin = arc_sin_[j1];
+    blk.radius_m = 0.0;
+    blk.wedge = blk.lo_cos * blk.hi_cos + blk.lo_sin * blk.hi_sin > 0.0;
+    for (std::size_t j = j0; j <= j1; ++j) {
+      blk.radius_m = std::max(blk.radius_m, std::hypot(arc_end_f_m_[j] - blk.origin_f_m,
+                                                       arc_end_s_m_[j] - blk.origin_s_m));
+      const double from_lo = blk.lo_cos * arc_sin_[j] - blk.lo_sin * arc_cos_[j];
+      const double to_hi = arc_cos_[j] * blk.hi_sin - arc_sin_[j] * blk.hi_cos;
+      if (from_lo < -1e-12 || to_hi < -1e-12) blk.wedge = false;
+    }
+  }
+  // The swept hull's poses, step by step, with the same arithmetic the check used to do per
+  // call (so the same turns come out).
+  const HullBox box{params.bow_ahead_m - params.hull_length_m, params.bow_ahead_m,
+                    params.half_beam_m};
+  const double box_mid_m = 0.5 * (box.aft_m + box.fore_m);
+  box_radius_m_ = std::hypot(0.5 * (box.fore_m - box.aft_m), box.half_m);
+  const double step = params.sweep_step_deg;
+  for (int side = 0; side < 2; ++side) {
+    const double side_sign = side == 0 ? -1.0 : 1.0;
+    SweepSide& w = sweep_sides_[static_cast<std::size_t>(side)];
+    const double extent = side_sign > 0.0 ? params.fan.max_deg : -params.fan.min_deg;
+    w.max_turn_deg = extent <= 0.0 ? 0.0 : std::min(extent, 180.0);
+    w.centre_f_m = p;
+    w.centre_s_m = side_sign * radius;
+    w.box_near_m = point_box_distance(w.centre_f_m, w.centre_s_m, box);
+    w.box_far_m = 0.0;
+    for (const double cf : {box.aft_m, box.fore_m}) {
+      for (const double cs : {-box.half_m, box.half_m}) {
+        w.box_far_m = std::max(w.box_far_m, std::hypot(cf - w.centre_f_m, cs - w.centre_s_m));
+      }
+    }
+    w.steps = 0;
+    if (extent <= 0.0) continue;
+    for (double a_deg = step; a_deg <= w.max_turn_deg + 1e-9 && w.steps < kMaxSweepSteps;
+         a_deg += step) {
+      const double a = core::deg_to_rad(a_deg);
+      const double c = std::cos(a);
+      const double sn = side_sign * std::sin(a);
+      // The pivot on its circle, then the body origin p behind it along the new heading.
+      const double of = p + radius * std::sin(a) - p * c;
+      const double os = side_sign * radius * (1.0 - c) - p * sn;
+      const std::size_t k = w.steps++;
+      w.a_deg[k] = a_deg;
+      w.cos[k] = c;
+      w.sin[k] = sn;
+      w.origin_f_m[k] = of;
+      w.origin_s_m[k] = os;
+      w.box_f_m[k] = of + box_mid_m * c;
+      w.box_s_m[k] = os + box_mid_m * sn;
+    }
+  }
 }
 
 void Avoidance::reset() {
@@ -209,7 +362,7 @@ bool Avoidance::compute_costs(double limit_m) {
   for (std::size_t j = 0; j < n; ++j) {
     const double c = bins_.center_deg(j);
     const double d = range_m_[j];
-    const double turn = std::abs(core::angle_diff_deg(c, goal_deg_));
+    const double turn = std::abs(diff_deg(c, goal_deg_));
     double cost = kInf;
     if (swept_out(c)) {
       // The hull would swing into an obstacle on the way: refused at every range.
@@ -240,8 +393,8 @@ std::size_t Avoidance::best_in(std::size_t first, std::size_t last, double goal_
     }
     if (!tied(cost_[j], cost_[best])) continue;
     // Within one side of the goal: nearer the goal, then the smaller turn.
-    const double tj = std::abs(core::angle_diff_deg(bins_.center_deg(j), goal_deg));
-    const double tb = std::abs(core::angle_diff_deg(bins_.center_deg(best), goal_deg));
+    const double tj = std::abs(diff_deg(bins_.center_deg(j), goal_deg));
+    const double tb = std::abs(diff_deg(bins_.center_deg(best), goal_deg));
     if (tj < tb - kTieEps ||
         (tied(tj, tb) && std::abs(bins_.center_deg(j)) < std::abs(bins_.center_deg(best)))) {
       best = j;
@@ -256,7 +409,7 @@ double Avoidance::free_room(Side side, double window_deg, double limit_m) const 
   double room = 0.0;
   const double sign = side == Side::kPort ? -1.0 : 1.0;
   for (std::size_t j = 0; j < bins_.size(); ++j) {
-    const double off = sign * core::angle_diff_deg(bins_.center_deg(j), goal_deg_);
+    const double off = sign * diff_deg(bins_.center_deg(j), goal_deg_);
     if (off > 0.0 && off <= window_deg) {
       room += std::min(range_m_[j], params_.detection_range_m) / limit_m;
     }
@@ -278,8 +431,8 @@ std::size_t Avoidance::most_open_bin(double goal_deg) const {
     if (rj > rb) {
       best = j;
     } else if (rj == rb) {
-      const double tj = std::abs(core::angle_diff_deg(bins_.center_deg(j), goal_deg));
-      const double tb = std::abs(core::angle_diff_deg(bins_.center_deg(best), goal_deg));
+      const double tj = std::abs(diff_deg(bins_.center_deg(j), goal_deg));
+      const double tb = std::abs(diff_deg(bins_.center_deg(best), goal_deg));
       // Nearer the goal; on a full tie the later (starboard) bin, the COLREG-preferred side.
       if (tj <= tb + kTieEps) best = j;
     }
@@ -329,55 +482,57 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
   }
 }
 
-double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, double side_sign) {
-  const double extent = side_sign > 0.0 ? params_.fan.max_deg : -params_.fan.min_deg;
-  if (extent <= 0.0) return 0.0;
-  const double max_turn_deg = std::min(extent, 180.0);
+double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, int side) {
+  const SweepSide& w = sweep_sides_[static_cast<std::size_t>(side)];
+  if (w.max_turn_deg <= 0.0) return 0.0;
+  const std::size_t gathered = sweep_count_;
+  if (gathered == 0) return w.max_turn_deg;
   const HullBox box{params_.bow_ahead_m - params_.hull_length_m, params_.bow_ahead_m,
                     params_.half_beam_m};
-  const double p = params_.pivot_ahead_m;
-  const double radius = params_.sweep_turn_radius_m;
-  const double clearance = params_.sweep_clearance_m;
-  // Farthest any hull point gets from the pivot's start on an arc of up to 180 deg.
-  const double hull_reach =
-      std::hypot(std::max(std::abs(box.aft_m - p), std::abs(box.fore_m - p)), box.half_m);
-  const double reach = 2.0 * radius + hull_reach + clearance;
-  // Segments within reach, each with the room it must keep: the clearance, or what it has now
-  // when it is already closer (so the boat may still turn away from it).
+  // The turn is a rotation about the turning centre: keep the segments whose distances from it
+  // come within the room of the hull box's.
   std::size_t n = 0;
-  const std::uint32_t count =
-      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const auto& seg = obstacles.segments[k];
-    const double af = seg.begin.forward_m;
-    const double as = seg.begin.starboard_m;
-    const double bf = seg.end.forward_m;
-    const double bs = seg.end.starboard_m;
-    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
-      continue;
-    }
-    if (point_segment_distance(p, 0.0, af, as, bf, bs) > reach) continue;
-    const double now_m = segment_box_distance(af, as, bf, bs, box);
-    sweep_index_[n] = static_cast<std::uint16_t>(k);
-    sweep_room_m_[n] = now_m >= clearance ? clearance : std::max(0.0, now_m - 1e-3);
-    ++n;
+  for (std::size_t i = 0; i < gathered; ++i) {
+    const auto& seg = obstacles.segments[sweep_index_[i]];
+    const double room = sweep_room_m_[i] + kCullEps;
+    const double af = seg.begin.forward_m - w.centre_f_m;
+    const double as = seg.begin.starboard_m - w.centre_s_m;
+    const double bf = seg.end.forward_m - w.centre_f_m;
+    const double bs = seg.end.starboard_m - w.centre_s_m;
+    const double df = bf - af;
+    const double ds = bs - as;
+    const double dd = df * df + ds * ds;
+    const double near_sq = point_segment_sq(0.0, 0.0, af, as, df, ds, dd > 0.0 ? 1.0 / dd : 0.0);
+    const double far_sq = std::max(af * af + as * as, bf * bf + bs * bs);
+    const double outer = w.box_far_m + room;
+    const double inner = w.box_near_m - room;
+    if (near_sq > outer * outer || (inner > 0.0 && far_sq < inner * inner)) continue;
+    side_index_[n++] = static_cast<std::uint16_t>(i);
   }
-  if (n == 0) return max_turn_deg;
   const double step = params_.sweep_step_deg;
-  for (double a_deg = step; a_deg <= max_turn_deg + 1e-9; a_deg += step) {
-    const double a = core::deg_to_rad(a_deg);
-    const double c = std::cos(a);
-    const double sn = side_sign * std::sin(a);
-    // The pivot on its circle, then the body origin p behind it along the new heading.
-    const double of = p + radius * std::sin(a) - p * c;
-    const double os = side_sign * radius * (1.0 - c) - p * sn;
-    for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t k = 0; k < w.steps; ++k) {
+    const double c = w.cos[k];
+    const double sn = w.sin[k];
+    const double of = w.origin_f_m[k];
+    const double os = w.origin_s_m[k];
+    for (std::size_t m = 0; m < n; ++m) {
+      const std::size_t i = side_index_[m];
       const auto& seg = obstacles.segments[sweep_index_[i]];
+      // The hull box lies within box_radius_m_ of its centre: a segment farther than that plus
+      // the room from the centre cannot touch it.
+      const double df = seg.end.forward_m - seg.begin.forward_m;
+      const double ds = seg.end.starboard_m - seg.begin.starboard_m;
+      const double dd = df * df + ds * ds;
+      const double reach = box_radius_m_ + sweep_room_m_[i] + kCullEps;
+      if (point_segment_sq(w.box_f_m[k], w.box_s_m[k], seg.begin.forward_m, seg.begin.starboard_m,
+                           df, ds, dd > 0.0 ? 1.0 / dd : 0.0) > reach * reach) {
+        continue;
+      }
       const auto to_future = [&](const core::BodyPoint& q, double& f, double& s_m) {
-        const double df = q.forward_m - of;
-        const double ds = q.starboard_m - os;
-        f = df * c + ds * sn;
-        s_m = -df * sn + ds * c;
+        const double qf = q.forward_m - of;
+        const double qs = q.starboard_m - os;
+        f = qf * c + qs * sn;
+        s_m = -qf * sn + qs * c;
       };
       double af = 0.0;
       double as = 0.0;
@@ -385,10 +540,10 @@ double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, do
       double bs = 0.0;
       to_future(seg.begin, af, as);
       to_future(seg.end, bf, bs);
-      if (segment_box_distance(af, as, bf, bs, box) < sweep_room_m_[i]) return a_deg - step;
+      if (segment_box_closer_than(af, as, bf, bs, box, sweep_room_m_[i])) return w.a_deg[k] - step;
     }
   }
-  return max_turn_deg;
+  return w.max_turn_deg;
 }
 
 void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
@@ -413,53 +568,117 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
       continue;
     }
-    if (point_segment_distance(0.0, 0.0, af, as, bf, bs) > reach) continue;
-    for (std::size_t j = 0; j < n_bins; ++j) {
-      // The segment in the frame of the boat at the end of the turn onto bin j.
-      const double c = arc_cos_[j];
-      const double sn = arc_sin_[j];
-      const double pf = af - arc_end_f_m_[j];
-      const double ps = as - arc_end_s_m_[j];
-      const double qf = bf - arc_end_f_m_[j];
-      const double qs = bs - arc_end_s_m_[j];
-      const double f0 = pf * c + ps * sn;
-      const double s0 = -pf * sn + ps * c;
-      const double f1 = qf * c + qs * sn;
-      const double s1 = -qf * sn + qs * c;
-      // The part of it inside the corridor ahead: |s| <= w and f >= 0.
-      double t_lo = 0.0;
-      double t_hi = 1.0;
-      const auto keep = [&](double v0, double v1) {  // keeps v(t) = v0 + (v1 - v0) t >= 0
-        const double dv = v1 - v0;
-        if (std::abs(dv) < 1e-15) {
-          if (v0 < 0.0) t_lo = 2.0;
-          return;
+    if (point_segment_farther_than(0.0, 0.0, af, as, bf, bs, reach)) continue;
+    // The segment's bounding circle first decides which bins it can reach at all: whole
+    // blocks of bins by their wedge, then each bin by its corridor (within the half-width of
+    // its centre line, not wholly behind the turn's end, near enough to lower its range).
+    const double mid_f = 0.5 * (af + bf);
+    const double mid_s = 0.5 * (as + bs);
+    const double half_len = 0.5 * std::sqrt((bf - af) * (bf - af) + (bs - as) * (bs - as));
+    const double lateral = w + half_len + kCullEps;
+    const double behind = -(half_len + kCullEps);
+    const double near_back = half_len + kCullEps;
+    for (std::size_t b = 0; b < block_count_; ++b) {
+      const BinBlock& blk = blocks_[b];
+      if (blk.wedge) {
+        const double qf = mid_f - blk.origin_f_m;
+        const double qs = mid_s - blk.origin_s_m;
+        const double margin = blk.radius_m + lateral;
+        if (blk.lo_cos * qs - blk.lo_sin * qf < -margin) continue;  // to port of the wedge
+        if (blk.hi_cos * qs - blk.hi_sin * qf > margin) continue;   // to starboard of it
+      }
+      const std::size_t j_end = std::min(n_bins, (b + 1) * kBlockBins);
+      for (std::size_t j = b * kBlockBins; j < j_end; ++j) {
+        const double pf_mid = mid_f - arc_end_f_m_[j];
+        const double ps_mid = mid_s - arc_end_s_m_[j];
+        const double f_mid = pf_mid * arc_cos_[j] + ps_mid * arc_sin_[j];
+        const double s_mid = -pf_mid * arc_sin_[j] + ps_mid * arc_cos_[j];
+        if (std::abs(s_mid) > lateral || f_mid < behind ||
+            !(arc_len_m_[j] + std::max(0.0, f_mid - near_back) < range_m_[j])) {
+          continue;
         }
-        const double root = -v0 / dv;
-        if (dv > 0.0) {
-          t_lo = std::max(t_lo, root);
-        } else {
-          t_hi = std::min(t_hi, root);
-        }
-      };
-      keep(w + s0, w + s1);
-      keep(w - s0, w - s1);
-      keep(f0, f1);
-      if (t_lo > t_hi) continue;
-      const double f_near = std::min(f0 + (f1 - f0) * t_lo, f0 + (f1 - f0) * t_hi);
-      range_m_[j] = std::min(range_m_[j], arc_len_m_[j] + std::max(0.0, f_near));
+        path_range_exact(j, af, as, bf, bs, w);
+      }
     }
   }
+}
+
+void Avoidance::path_range_exact(std::size_t j, double af, double as, double bf, double bs,
+                                 double w) {
+  // The segment in the frame of the boat at the end of the turn onto bin j.
+  const double c = arc_cos_[j];
+  const double sn = arc_sin_[j];
+  const double pf = af - arc_end_f_m_[j];
+  const double ps = as - arc_end_s_m_[j];
+  const double qf = bf - arc_end_f_m_[j];
+  const double qs = bs - arc_end_s_m_[j];
+  const double f0 = pf * c + ps * sn;
+  const double s0 = -pf * sn + ps * c;
+  const double f1 = qf * c + qs * sn;
+  const double s1 = -qf * sn + qs * c;
+  // The part of it inside the corridor ahead: |s| <= w and f >= 0.
+  double t_lo = 0.0;
+  double t_hi = 1.0;
+  const auto keep = [&](double v0, double v1) {  // keeps v(t) = v0 + (v1 - v0) t >= 0
+    const double dv = v1 - v0;
+    if (std::abs(dv) < 1e-15) {
+      if (v0 < 0.0) t_lo = 2.0;
+      return;
+    }
+    const double root = -v0 / dv;
+    if (dv > 0.0) {
+      t_lo = std::max(t_lo, root);
+    } else {
+      t_hi = std::min(t_hi, root);
+    }
+  };
+  keep(w + s0, w + s1);
+  keep(w - s0, w - s1);
+  keep(f0, f1);
+  if (t_lo > t_hi) return;
+  const double f_near = std::min(f0 + (f1 - f0) * t_lo, f0 + (f1 - f0) * t_hi);
+  range_m_[j] = std::min(range_m_[j], arc_len_m_[j] + std::max(0.0, f_near));
 }
 
 void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
   sweep_port_deg_ = 180.0;
   sweep_starboard_deg_ = 180.0;
   if (!params_.sweep_enabled) return;
+  // Segments within reach of the swept hull on either side, each with the room it must keep:
+  // the clearance, or what it has now when it is already closer (so the boat may still turn
+  // away from it). The same for both sides, so gathered once.
+  sweep_count_ = 0;
+  if (sweep_sides_[0].max_turn_deg > 0.0 || sweep_sides_[1].max_turn_deg > 0.0) {
+    const HullBox box{params_.bow_ahead_m - params_.hull_length_m, params_.bow_ahead_m,
+                      params_.half_beam_m};
+    const double p = params_.pivot_ahead_m;
+    const double clearance = params_.sweep_clearance_m;
+    // Farthest any hull point gets from the pivot's start on an arc of up to 180 deg.
+    const double hull_reach =
+        std::hypot(std::max(std::abs(box.aft_m - p), std::abs(box.fore_m - p)), box.half_m);
+    const double reach = 2.0 * params_.sweep_turn_radius_m + hull_reach + clearance;
+    const std::uint32_t count =
+        std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const auto& seg = obstacles.segments[k];
+      const double af = seg.begin.forward_m;
+      const double as = seg.begin.starboard_m;
+      const double bf = seg.end.forward_m;
+      const double bs = seg.end.starboard_m;
+      if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
+        continue;
+      }
+      if (point_segment_farther_than(p, 0.0, af, as, bf, bs, reach)) continue;
+      const double now_m = segment_box_distance(af, as, bf, bs, box);
+      sweep_index_[sweep_count_] = static_cast<std::uint16_t>(k);
+      sweep_room_m_[sweep_count_] = now_m >= clearance ? clearance : std::max(0.0, now_m - 1e-3);
+      ++sweep_count_;
+    }
+  }
   // A turn of less than half a bin counts as straight on: never refused.
   const double half_bin = 0.5 * params_.fan.bin_width_deg;
-  sweep_port_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, -1.0));
-  sweep_starboard_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, 1.0));
+  sweep_port_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, 0));
+  sweep_starboard_deg_ = std::max(half_bin, sweep_turn_limit(obstacles, 1));
 }
 
 AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
@@ -475,11 +694,30 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     return out;
   }
 
-  const double hull_m = params_.half_beam_m + params_.clearance_m;
-  bins_.fill(obstacles, hull_m, params_.detection_range_m);
-  out.nearest_m = bins_.min_range_m();
-  compute_sweep(obstacles);
-  compute_path_ranges(obstacles);
+  if (same_geometry(obstacles)) {
+    std::copy_n(geometry_range_m_.begin(), n, range_m_.begin());
+    sweep_port_deg_ = geometry_sweep_port_deg_;
+    sweep_starboard_deg_ = geometry_sweep_starboard_deg_;
+    out.nearest_m = geometry_nearest_m_;
+  } else {
+    const double hull_m = params_.half_beam_m + params_.clearance_m;
+    bins_.fill(obstacles, hull_m, params_.detection_range_m);
+    out.nearest_m = bins_.min_range_m();
+    compute_sweep(obstacles);
+    compute_path_ranges(obstacles);
+    geometry_count_ =
+        std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+    for (std::uint32_t k = 0; k < geometry_count_; ++k) {
+      const auto& seg = obstacles.segments[k];
+      geometry_segments_[k] = {seg.begin.forward_m, seg.begin.starboard_m, seg.end.forward_m,
+                               seg.end.starboard_m};
+    }
+    std::copy_n(range_m_.begin(), n, geometry_range_m_.begin());
+    geometry_sweep_port_deg_ = sweep_port_deg_;
+    geometry_sweep_starboard_deg_ = sweep_starboard_deg_;
+    geometry_nearest_m_ = out.nearest_m;
+    geometry_valid_ = true;
+  }
   out.sweep_port_deg = sweep_port_deg_;
   out.sweep_starboard_deg = sweep_starboard_deg_;
 
@@ -607,7 +845,25 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   return out;
 }
 
+bool Avoidance::same_geometry(const perception::ObstacleList& obstacles) const {
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  if (!geometry_valid_ || count != geometry_count_) return false;
+  // Bit for bit (so -0.0 and 0.0 differ and a NaN equals itself): the same inputs.
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  std::uint64_t differ = 0;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const auto& seg = obstacles.segments[k];
+    const std::array<double, 4>& was = geometry_segments_[k];
+    differ |= (bits(seg.begin.forward_m) ^ bits(was[0])) |
+              (bits(seg.begin.starboard_m) ^ bits(was[1])) |
+              (bits(seg.end.forward_m) ^ bits(was[2])) | (bits(seg.end.starboard_m) ^ bits(was[3]));
+  }
+  return differ == 0;
+}
+
 void Avoidance::decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out) {
+  geometry_valid_ = false;  // the bins are used differently here
   // Faithful to the 2022 code: an obstacle counts only if one of its END angles lies inside
   // the fan; its distance is that of its FIRST point; the margin is a FIXED angle; the bins from
   // the smaller to the larger end angle (plus margin) are dangerous.
@@ -652,7 +908,7 @@ void Avoidance::decide_naive(const perception::ObstacleList& obstacles, Avoidanc
   for (std::size_t j = 0; j < n; ++j) {
     if (!(cost_[j] < kInf)) continue;
     const double c = bins_.center_deg(j);
-    const double turn = std::abs(core::angle_diff_deg(c, goal_deg_));
+    const double turn = std::abs(diff_deg(c, goal_deg_));
     if (turn < best_turn || (turn == best_turn && std::abs(c) < best_abs)) {
       best = j;
       best_turn = turn;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <optional>
@@ -398,6 +399,56 @@ TEST(LidarClusterer, DeterministicAndAllocationFree) {
     EXPECT_EQ(a->list.segments[i].closest_range_m, b->list.segments[i].closest_range_m);
   }
   EXPECT_EQ(a->profile.closest_range_m, b->profile.closest_range_m);
+}
+
+// The per-beam trigonometry is kept from scan to scan: whatever came before (the same
+// geometry, returns missing, angles drifting, an unsorted or odd scan), a long-lived clusterer
+// gives bit for bit what a fresh one gives for the same scan.
+TEST(LidarClusterer, ScanHistoryDoesNotChangeTheResult) {
+  SceneBuilder scene;
+  scene.walls.push_back({BodyPoint{6.0, -3.0}, BodyPoint{6.0, 3.0}});
+  scene.walls.push_back({BodyPoint{-4.0, -5.0}, BodyPoint{3.0, -5.0}});
+  scene.circles.push_back({BodyPoint{2.5, 1.5}, 0.3});
+  scene.circles.push_back({BodyPoint{-2.0, 3.0}, 0.25});
+  const auto base = scene.scan();
+  std::vector<std::unique_ptr<msg::LidarScan>> scans;
+  for (int k = 0; k < 24; ++k) {
+    auto s = std::make_unique<msg::LidarScan>();
+    s->stamp_ns = base->stamp_ns + k;
+    for (std::uint32_t i = 0; i < base->point_count; ++i) {
+      msg::LidarPoint p = base->points[i];
+      if (k % 4 == 1 && (i * 7 + static_cast<std::uint32_t>(k)) % 5 == 0) continue;  // dropouts
+      if (k % 4 == 2)
+        p.bearing_deg += 0.01F * static_cast<float>((i + static_cast<std::uint32_t>(k)) % 3);
+      (void)s->push(p);
+    }
+    if (k % 4 == 3 && s->point_count > 20) {  // out of order, a NaN and an unwrapped bearing
+      std::swap(s->points[3], s->points[9]);
+      s->points[5].bearing_deg = std::nanf("");
+      s->points[6].bearing_deg += 360.0F;
+    }
+    scans.push_back(std::move(s));
+  }
+  for (const LidarClusterParams& params :
+       {LidarClusterParams{}, LidarClusterParams::reference_tricat2022()}) {
+    LidarClusterer kept(params);
+    auto a = std::make_unique<Result>();
+    for (const auto& s : scans) {
+      kept.process(*s, a->list, a->profile);
+      const auto b = run(params, *s);
+      ASSERT_EQ(a->list.count, b->list.count);
+      for (std::uint32_t i = 0; i < a->list.count; ++i) {
+        const ObstacleSegment& x = a->list.segments[i];
+        const ObstacleSegment& y = b->list.segments[i];
+        EXPECT_EQ(std::memcmp(&x.begin, &y.begin, sizeof(x.begin)), 0);
+        EXPECT_EQ(std::memcmp(&x.end, &y.end, sizeof(x.end)), 0);
+        EXPECT_EQ(x.closest_range_m, y.closest_range_m);
+        EXPECT_EQ(x.point_count, y.point_count);
+      }
+      EXPECT_EQ(a->profile.closest_range_m, b->profile.closest_range_m);
+      EXPECT_EQ(kept.last_stats().points_kept, b->stats.points_kept);
+    }
+  }
 }
 
 TEST(LidarClusterer, FullScanOfReturnsStaysWithinCapacity) {

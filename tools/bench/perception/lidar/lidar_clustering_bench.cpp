@@ -85,6 +85,29 @@ void BM_PeerScansDefault(benchmark::State& state) {
 void BM_PeerScansReference(benchmark::State& state) {
   BM_PeerScans(state, LidarClusterParams::reference_tricat2022());
 }
+// The same scans with every bearing moved by a per-scan offset (a scanner whose angles drift
+// from one revolution to the next, as a real RPLIDAR's do): no bearing repeats, so the
+// clusterer's per-beam cache cannot help and every return's trigonometry is computed.
+void BM_PeerScansDrifting(benchmark::State& state) {
+  static std::vector<std::unique_ptr<msg::LidarScan>> drifting;
+  if (drifting.empty()) {
+    for (std::size_t k = 0; k < peer_scans().size(); ++k) {
+      auto s = std::make_unique<msg::LidarScan>(*peer_scans()[k].scan);
+      const auto offset_deg = static_cast<float>(0.001 * static_cast<double>(k % 97 + 1));
+      for (std::uint32_t i = 0; i < s->point_count; ++i) s->points[i].bearing_deg += offset_deg;
+      drifting.push_back(std::move(s));
+    }
+  }
+  std::vector<const msg::LidarScan*> scans;
+  for (const auto& s : drifting) scans.push_back(s.get());
+  if (scans.empty()) {
+    state.SkipWithError("peer recording absent (../shared/testdata/peer/)");
+    return;
+  }
+  LidarClusterParams p;
+  p.hull = HullBox{};
+  run_scans(state, p, scans);
+}
 
 // A harbour-like scene: quay walls, a corner, buoys, 0.25 deg beams (1440 returns at most).
 std::unique_ptr<msg::LidarScan> synthetic_scene() {
@@ -144,6 +167,7 @@ void BM_FullRing4096(benchmark::State& state) {
 
 BENCHMARK(BM_PeerScansDefault)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PeerScansReference)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PeerScansDrifting)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SyntheticHarbour)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FullRing4096)->Unit(benchmark::kMicrosecond);
 
