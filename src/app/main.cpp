@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "coxswain/app/calibrate_mag.hpp"
+#include "coxswain/app/cli.hpp"
 #include "coxswain/app/daemon.hpp"
 #include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/logging.hpp"
@@ -107,6 +108,10 @@ int main(int argc, char** argv) {
   CLI::App app{"coxswain: autonomy daemon for small autonomous competition boats"};
   app.set_version_flag("--version", std::string("coxswain ") + coxswain::kVersion + " (git " +
                                         coxswain::kGitHash + ")");
+  // Defaults shown in every --help; the options of `coxswain` itself are accepted after the
+  // subcommand as well (`coxswain replay --mission new.yaml RUN.mcap`).
+  app.option_defaults()->always_capture_default();
+  app.fallthrough();
   std::string config_dir_flag;
   std::string boat_file;
   std::string devices_file;
@@ -220,7 +225,10 @@ int main(int argc, char** argv) {
   calibrate->require_subcommand(1);
   app.require_subcommand(0, 1);
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto status =
+          coxswain::app::parse_command_line(app, argc, argv, "coxswain", std::cout, std::cerr)) {
+    return *status;
+  }
   if (vision->parsed()) return vision_exit;
 
   if (check->parsed()) return check_config(check_files);
