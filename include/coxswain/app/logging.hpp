@@ -6,7 +6,7 @@
 // Warnings and errors that repeat (the same words, numbers aside) are rate-limited in front of
 // every sink, the tap included, so the console, the file and /log read the same: the first line
 // passes, repeats within the window are counted, and when the window ends one line says
-// "... N similar suppressed".
+// "... N similar suppressed". Device state changes and mission transitions are never limited.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -33,7 +33,8 @@ class RepeatLimiter {
   /// `max_keys`: distinct lines tracked at once; past it, new lines pass unlimited.
   explicit RepeatLimiter(std::chrono::nanoseconds window = std::chrono::seconds(10),
                          std::size_t max_keys = 512);
-  /// Whether a line with this level and text is written now (true) or counted (false).
+  /// Whether a line with this level and text is written now (true) or counted (false). A state
+  /// change ("device ...", "mission: ...") is always written: each one is a line of the log.
   bool admit(int level, std::string_view text, Clock::time_point at);
   /// For every key whose window has ended with lines counted: calls `report(level, count,
   /// last_text)` and forgets the key (its next line passes and opens a new window).

@@ -67,6 +67,16 @@ TEST(RepeatLimiter, OtherWordsOrAnotherLevelAreNotSimilar) {
   EXPECT_FALSE(limiter.admit(kWarn, "lidar: closed /dev/ttyLiDAR: unplugged", t0));
 }
 
+TEST(RepeatLimiter, StateChangesAreNeverLimited) {
+  RepeatLimiter limiter(seconds(10));
+  const Clock::time_point t0{};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(limiter.admit(kWarn, "device lidar: absent (no /dev/ttyLiDAR)", t0));
+    EXPECT_TRUE(limiter.admit(kWarn, "mission: transit -> hold: lidar stale", t0));
+  }
+  EXPECT_TRUE(expire(limiter, t0 + seconds(20)).empty());
+}
+
 TEST(RepeatLimiter, AWindowWithoutRepeatsReportsNothing) {
   RepeatLimiter limiter(seconds(1));
   const Clock::time_point t0{};
