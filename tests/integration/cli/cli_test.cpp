@@ -291,4 +291,53 @@ TEST_F(Cli, DevicesModeProgressArrivesThroughAPipeEverySecondWhileTheRunGoesOn) 
   EXPECT_NE(help.find("--no-progress"), std::string::npos);
 }
 
+TEST_F(Cli, InfoSummarisesASimulatorRecording) {
+  const std::string mcap = path("run.mcap");
+  const Ran sailed =
+      sim("run --course config/courses/kaboat2022_hopping.yaml --mission "
+          "config/missions/hopping.yaml --max-time 4 --no-camera --record " +
+          mcap);
+  ASSERT_NE(sailed.status, 2) << sailed.err;
+  const Ran text = coxswain("info " + mcap);
+  ASSERT_EQ(text.status, 0) << text.err;
+  EXPECT_NE(text.out.find("complete, every CRC valid"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("mission: hopping"), std::string::npos) << text.out;
+  EXPECT_TRUE(std::regex_search(text.out, std::regex(R"(\n/tick +200 +50\.0 Hz)"))) << text.out;
+
+  const Ran j = coxswain("info --json " + mcap);
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto info = nlohmann::json::parse(j.out);
+  EXPECT_NEAR(info["duration_s"].get<double>(), 4.0, 0.05);
+  EXPECT_EQ(info["ticks"], 200);
+  EXPECT_EQ(info["mission"], "hopping");
+  EXPECT_EQ(info["crc_ok"], true);
+  EXPECT_EQ(info["dropped"], 0);
+  EXPECT_EQ(info["final_state"].get<std::string>().rfind("hopping/", 0), 0U) << info.dump();
+  EXPECT_TRUE(
+      std::regex_match(info["config_hash"].get<std::string>(), std::regex("fnv1a:[0-9a-f]{16}")));
+  bool saw_imu = false;
+  for (const auto& c : info["channels"]) {
+    if (c["topic"] == "/imu") {
+      saw_imu = true;
+      EXPECT_NEAR(c["rate_hz"].get<double>(), 100.0, 2.0);
+      EXPECT_EQ(c["schema"], "coxswain.ImuSample");
+    }
+  }
+  EXPECT_TRUE(saw_imu);
+  // The same configuration hashes the same: a second run of it, another seed.
+  const std::string other = path("other.mcap");
+  ASSERT_NE(sim("run --course config/courses/kaboat2022_hopping.yaml --mission "
+                "config/missions/hopping.yaml --max-time 1 --no-camera --seed 2 --record " +
+                other)
+                .status,
+            2);
+  EXPECT_EQ(nlohmann::json::parse(coxswain("info --json " + other).out)["config_hash"],
+            info["config_hash"]);
+
+  const Ran missing = coxswain("info " + path("none.mcap"));
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("cannot read"), std::string::npos) << missing.err;
+  EXPECT_EQ(missing.err.find(kUsageHint), std::string::npos);
+}
+
 }  // namespace
