@@ -252,6 +252,34 @@ TEST_F(Cli, BatchPrintsJsonOnStdoutRoundedAndEachFailedSeedWithItsCommand) {
   EXPECT_EQ(again_lines[0], lines[1]);
 }
 
+// On a terminal (both streams on one pseudo-terminal, through `script`) the progress bar is taken
+// off the line before each JSON line: as displayed, every JSON line stands alone.
+TEST_F(Cli, OnATerminalTheBatchProgressBarNeverSharesALineWithTheJson) {
+  if (std::system("command -v script > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "script (util-linux) is not installed: no pseudo-terminal to test on";
+  }
+  const Ran r = run("/usr/bin/env",
+                    "script -qec \"'" + std::string(COXSWAIN_SIM_EXE) +
+                        "' batch --kind obstacle --runs 3 --jobs 1 --max-time 1 --no-camera\" "
+                        "/dev/null");
+  ASSERT_EQ(r.status, 0) << r.err;
+  int json_lines = 0;
+  bool saw_bar = false;
+  for (std::string line : lines_of(r.out)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    saw_bar = saw_bar || line.find("] 1/3") != std::string::npos;
+    // What the terminal shows: the text after the last carriage return, the erase code gone.
+    if (const auto cr = line.rfind('\r'); cr != std::string::npos) line = line.substr(cr + 1);
+    if (line.starts_with("\033[K")) line = line.substr(3);
+    if (line.find('{') == std::string::npos) continue;
+    EXPECT_EQ(line.front(), '{') << line;
+    EXPECT_TRUE(nlohmann::json::parse(line, nullptr, false).is_object()) << line;
+    ++json_lines;
+  }
+  EXPECT_EQ(json_lines, 4) << r.out;  // three runs and the summary
+  EXPECT_TRUE(saw_bar) << "no progress bar on the terminal:\n" << r.out;
+}
+
 TEST_F(Cli, DevicesModeProgressArrivesThroughAPipeEverySecondWhileTheRunGoesOn) {
   const std::string cmd = "cd '" + coxswain::testing::source_dir().string() + "' && '" +
                           COXSWAIN_SIM_EXE +
