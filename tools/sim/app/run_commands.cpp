@@ -14,7 +14,6 @@
 #include <iostream>
 #include <mutex>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -430,9 +429,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
     if (no_disturbances) common += " --no-disturbances";
     if (!strategy.empty()) common += " --strategy " + batch::shell_quote(strategy);
     if (batch_max_time_s != 900.0) {
-      std::ostringstream t;
-      t << batch_max_time_s;
-      common += " --max-time " + t.str();
+      common += " --max-time " + nlohmann::json(batch_max_time_s).dump();  // shortest exact form
     }
     if (!files.sensors.empty()) common += " --sensors " + batch::shell_quote(files.sensors);
     if (files.boat != Files{}.boat) common += " --boat " + batch::shell_quote(files.boat);
