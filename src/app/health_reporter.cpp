@@ -12,8 +12,11 @@ int HealthReporter::report_changes(const core::Snapshot& snapshot) {
     if (!sample.valid()) continue;
     const msg::DeviceHealth& h = sample.value;
     Last& last = last_[i];
-    if (last.seen && last.state == h.state && last.detail == h.detail) continue;
     const std::string_view detail = h.detail_text();
+    if (last.seen && last.state == h.state &&
+        same_words(std::string_view(last.detail.data()), detail)) {
+      continue;
+    }
     const auto name = msg::device_name(static_cast<msg::DeviceId>(i));
     const auto state = msg::device_state_name(h.state);
     if (h.state == msg::DeviceState::kRunning || h.state == msg::DeviceState::kDisabled) {
@@ -25,6 +28,23 @@ int HealthReporter::report_changes(const core::Snapshot& snapshot) {
     ++changed;
   }
   return changed;
+}
+
+bool HealthReporter::same_words(std::string_view a, std::string_view b) {
+  const auto numeric = [](char c) { return (c >= '0' && c <= '9') || c == '.'; };
+  std::size_t i = 0;
+  std::size_t j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (numeric(a[i]) && numeric(b[j])) {
+      while (i < a.size() && numeric(a[i])) ++i;
+      while (j < b.size() && numeric(b[j])) ++j;
+      continue;
+    }
+    if (a[i] != b[j]) return false;
+    ++i;
+    ++j;
+  }
+  return i == a.size() && j == b.size();
 }
 
 void HealthReporter::report_counters(const core::Snapshot& snapshot, core::TimeNs now_ns) const {

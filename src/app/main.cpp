@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // coxswain: the autonomy daemon. `coxswain run` sails; `coxswain check-config FILE...` validates;
 // `coxswain decode --device D FILE` prints a raw device capture as JSON lines; `coxswain replay
-// RUN.mcap` re-runs the core on a recording; `coxswain report RUN.mcap` writes its HTML report;
+// RUN.mcap` re-runs the core on a recording; `coxswain info RUN.mcap` summarises one;
+// `coxswain report RUN.mcap` writes its HTML report;
 // `coxswain ctl CMD...` sends a command to the running daemon's control socket.
 // Exit status: 0 success, 1 runtime failure, 2 configuration error.
 #include <spdlog/spdlog.h>
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "coxswain/app/calibrate_mag.hpp"
+#include "coxswain/app/cli.hpp"
 #include "coxswain/app/daemon.hpp"
 #include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/logging.hpp"
@@ -25,6 +27,7 @@
 #include "coxswain/live/control_client.hpp"
 #include "coxswain/live/control_protocol.hpp"
 #include "coxswain/replay/command.hpp"
+#include "coxswain/replay/info.hpp"
 #include "coxswain/report/report.hpp"
 #include "coxswain/version.hpp"
 #include "vision_commands.hpp"
@@ -107,6 +110,10 @@ int main(int argc, char** argv) {
   CLI::App app{"coxswain: autonomy daemon for small autonomous competition boats"};
   app.set_version_flag("--version", std::string("coxswain ") + coxswain::kVersion + " (git " +
                                         coxswain::kGitHash + ")");
+  // Defaults shown in every --help; the options of `coxswain` itself are accepted after the
+  // subcommand as well (`coxswain replay --mission new.yaml RUN.mcap`).
+  app.option_defaults()->always_capture_default();
+  app.fallthrough();
   std::string config_dir_flag;
   std::string boat_file;
   std::string devices_file;
@@ -203,6 +210,14 @@ int main(int argc, char** argv) {
   replay->add_flag("--ignore-parameter-changes", replay_command.ignore_parameter_sets,
                    "Leave out the parameter sets applied live (/params): what the run would have "
                    "done without them");
+  auto* info = app.add_subcommand(
+      "info",
+      "Summarise a recording: duration, channels with message counts, rates and drops, the "
+      "mission's result, the configuration's hash (exit 0, or 2 when unreadable)");
+  std::string info_file;
+  bool info_as_json = false;
+  info->add_option("file", info_file, "The recording (RUN/run.mcap)")->required();
+  info->add_flag("--json", info_as_json, "One JSON object instead of text");
   auto* report = app.add_subcommand("report", "Write the postmortem report (one HTML file)");
   std::string report_file;
   std::string report_out;
@@ -220,10 +235,24 @@ int main(int argc, char** argv) {
   calibrate->require_subcommand(1);
   app.require_subcommand(0, 1);
 
-  CLI11_PARSE(app, argc, argv);
+  if (const auto status =
+          coxswain::app::parse_command_line(app, argc, argv, "coxswain", std::cout, std::cerr)) {
+    return *status;
+  }
   if (vision->parsed()) return vision_exit;
 
   if (check->parsed()) return check_config(check_files);
+  if (info->parsed()) {
+    const coxswain::replay::RecordingInfo recording = coxswain::replay::recording_info(info_file);
+    if (info_as_json) {
+      std::cout << coxswain::replay::info_json(recording) << "\n";
+    } else if (recording.ok) {
+      std::cout << info_file << "\n" << coxswain::replay::format_info(recording);
+    } else {
+      std::cerr << "info: " << recording.error << "\n";
+    }
+    return recording.ok ? 0 : kExitConfig;
+  }
   if (config_doc->parsed()) {
     std::cout << coxswain::config::parameter_reference_markdown();
     return 0;

@@ -193,6 +193,9 @@ struct LiveServer::Impl {
   core::LatestSlot<mission::TunableParameters> in_force_slot;   // tick thread
   core::LatestSlot<mission::TunableParameters> requested_slot;  // server thread
   std::uint64_t consumed_request = 0;                           // tick thread
+  // The newest request the tick has applied (its requested_slot sequence), published with the
+  // parameters then in force: a set is answered once it is applied, with what was applied.
+  std::atomic<std::uint64_t> applied_request{0};  // tick thread writes
 
   void publish_operator(const msg::OperatorInput& in) {
     store.operator_input.publish(in, in.stamp_ns);
@@ -208,7 +211,23 @@ struct LiveServer::Impl {
     summary.value = t.value.summary;
     summary.stamp_ns = t.stamp_ns;
     summary.sequence = t.sequence;
-    return status_json(summary, operator_state.current(), *devices, now);
+    json answer =
+        json::parse(status_json(summary, operator_state.current(), *devices, now), nullptr, false);
+    if (!answer.is_object()) return status_json(summary, operator_state.current(), *devices, now);
+    answer["controls"] = controls_json();
+    return answer.dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+
+  // Whether the buttons and live tuning can work at all, and if not how to make them.
+  json controls_json() const {
+    if (options.token.empty()) {
+      return {{"enabled", false},
+              {"why", "no token is configured (live.token in devices.yaml is empty)"},
+              {"how",
+               "set live.token in devices.yaml to a secret of your choice, restart the daemon, "
+               "then enter that token on this page (Foxglove: ws://HOST:PORT/?token=...)"}};
+    }
+    return {{"enabled", true}, {"how", "enter live.token of devices.yaml on this page"}};
   }
 
   // Runs a parsed command; returns the JSON answer line (no newline).
@@ -410,6 +429,27 @@ struct LiveServer::Impl {
     return j;
   }
 
+  // An enumeration by its name ("strategy": "gap_follow"), anything else as its number.
+  static json parameter_json(const mission::TunableSpec& spec,
+                             const mission::TunableParameters& params) {
+    const double value = spec.get(params);
+    if (!spec.choices.empty() && value >= 0.0 && value < static_cast<double>(spec.choices.size())) {
+      return spec.choices[static_cast<std::size_t>(value)];
+    }
+    return value;
+  }
+
+  // A requested value: a number, or for an enumeration one of its names. Null when neither.
+  static std::optional<double> requested_value(const mission::TunableSpec* spec, const json& v) {
+    if (v.is_number()) return v.get<double>();
+    if (v.is_string() && spec != nullptr) {
+      for (std::size_t i = 0; i < spec->choices.size(); ++i) {
+        if (spec->choices[i] == v.get<std::string>()) return static_cast<double>(i);
+      }
+    }
+    return std::nullopt;
+  }
+
   json parameter_values(const std::vector<std::string>& names, const json& id) {
     json params = json::array();
     const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
@@ -418,8 +458,7 @@ struct LiveServer::Impl {
         bool wanted = names.empty();
         for (const std::string& n : names) wanted = wanted || n == spec.name;
         if (!wanted) continue;
-        const double value = spec.get(in_force.value);
-        params.push_back({{"name", spec.name}, {"value", value}});
+        params.push_back({{"name", spec.name}, {"value", parameter_json(spec, in_force.value)}});
       }
     }
     json j = {{"op", "parameterValues"}, {"parameters", std::move(params)}};
@@ -428,8 +467,10 @@ struct LiveServer::Impl {
   }
 
   // Validates and queues a set request; returns the status messages to send (empty: all ok).
+  // `request_seq`: the requested_slot sequence of the published set (0: nothing published).
   std::vector<json> set_parameters(const json& list, const json& id,
-                                   std::vector<std::string>& names) {
+                                   std::vector<std::string>& names, std::uint64_t& request_seq) {
+    request_seq = 0;
     std::vector<json> problems;
     if (!pending) {
       const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
@@ -445,25 +486,40 @@ struct LiveServer::Impl {
       if (!p.is_object() || !p.contains("name") || !p["name"].is_string()) continue;
       const std::string name = p["name"].get<std::string>();
       names.push_back(name);
-      if (!p.contains("value") || !p["value"].is_number()) {
-        problems.push_back(status_op(2, name + ": a number is required", id));
+      const mission::TunableSpec* spec = mission::find_tunable(name);
+      const std::optional<double> requested =
+          p.contains("value") ? requested_value(spec, p["value"]) : std::nullopt;
+      if (!requested) {
+        std::string need = name + ": a number is required";
+        if (spec != nullptr && !spec->choices.empty()) {
+          need = name + ": one of";
+          for (const std::string& c : spec->choices) need += " " + c;
+          need += " (or its number) is required";
+        }
+        problems.push_back(status_op(2, need, id));
         continue;
       }
-      const std::string err = mission::set_tunable(candidate, name, p["value"].get<double>());
+      const std::string err = mission::set_tunable(candidate, name, *requested);
       if (!err.empty()) {
         problems.push_back(status_op(2, "rejected: " + err, id));
         spdlog::warn("live: parameter {} rejected: {}", name, err);
         emit_log(fox::LogLevel::kWarning, "parameter " + name + " rejected: " + err);
         continue;
       }
-      spdlog::info("live: parameter {} = {} requested", name, p["value"].get<double>());
-      emit_log(fox::LogLevel::kInfo,
-               "parameter " + name + " = " + p["value"].dump() + " requested");
+      // Logged as the client will see it: an enumeration by its name.
+      std::string shown = json(*requested).dump();
+      if (spec != nullptr && *requested >= 0.0 &&
+          *requested < static_cast<double>(spec->choices.size())) {
+        shown = spec->choices[static_cast<std::size_t>(*requested)];
+      }
+      spdlog::info("live: parameter {} = {} requested", name, shown);
+      emit_log(fox::LogLevel::kInfo, "parameter " + name + " = " + shown + " requested");
       changed = true;
     }
     if (changed) {
       pending = candidate;
       requested_slot.publish(candidate, clock.now_ns());
+      request_seq = requested_slot.sequence();
     }
     return problems;
   }
@@ -571,6 +627,31 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
   }
 
   [[nodiscard]] bool open() const { return open_; }
+
+  // Sends the parameterValues answers whose set the tick has applied (sequence `applied`), and
+  // after kAnswerTimeout those it has not (then with what is in force and a warning).
+  void answer_applied(std::uint64_t applied) {
+    if (answers_.empty() || !open_) return;
+    const auto now = std::chrono::steady_clock::now();
+    for (auto it = answers_.begin(); it != answers_.end();) {
+      const bool done = it->request_seq <= applied;
+      if (!done && now < it->deadline) {
+        ++it;
+        continue;
+      }
+      if (!done) {
+        send(status_op(1, "the parameter set is not applied yet (is the mission core ticking?)",
+                       it->id)
+                 .dump(-1, ' ', false, json::error_handler_t::replace),
+             false);
+      }
+      send(impl_.parameter_values(it->names, it->id)
+               .dump(-1, ' ', false, json::error_handler_t::replace),
+           false);
+      it = answers_.erase(it);
+    }
+  }
+
   // Subscription ids of this client on `channel`.
   void subscriptions_of(std::uint32_t channel, std::vector<std::uint32_t>& out) const {
     out.clear();
@@ -724,12 +805,18 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
         return;
       }
       std::vector<std::string> names;
-      for (const json& problem : impl_.set_parameters(msg["parameters"], id, names)) {
+      std::uint64_t request_seq = 0;
+      for (const json& problem : impl_.set_parameters(msg["parameters"], id, names, request_seq)) {
         send(problem.dump(-1, ' ', false, json::error_handler_t::replace), false);
       }
-      if (!id.is_null())
-        send(impl_.parameter_values(names, id).dump(-1, ' ', false, json::error_handler_t::replace),
-             false);
+      if (!id.is_null()) {
+        // Answered with the values in force once the tick has applied the set (the next tick,
+        // on_viz_timer looks), so the answer is what applies, not what was asked.
+        if (answers_.size() >= kMaxPendingAnswers) answers_.erase(answers_.begin());
+        answers_.push_back(
+            {id, std::move(names), request_seq, std::chrono::steady_clock::now() + kAnswerTimeout});
+        answer_applied(impl_.applied_request.load());
+      }
     } else {
       send(status_op(1, "unsupported op '" + op + "'", json())
                .dump(-1, ' ', false, json::error_handler_t::replace),
@@ -738,6 +825,15 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
   }
 
   static constexpr std::size_t kMaxSubscriptions = 64;
+  static constexpr std::size_t kMaxPendingAnswers = 16;
+  static constexpr std::chrono::seconds kAnswerTimeout{2};
+  struct PendingAnswer {
+    json id;
+    std::vector<std::string> names;
+    std::uint64_t request_seq = 0;  // 0: nothing was published, answer at once
+    std::chrono::steady_clock::time_point deadline;
+  };
+  std::vector<PendingAnswer> answers_;
   websocket::stream<beast::tcp_stream> ws_;
   beast::flat_buffer buffer_;
   std::deque<Out> queue_;
@@ -843,6 +939,10 @@ void LiveServer::Impl::on_viz_timer() {
     const auto c = w.lock();
     return !c || !c->open();
   });
+  const std::uint64_t applied = applied_request.load();
+  for (const auto& weak : clients) {
+    if (const auto c = weak.lock()) c->answer_applied(applied);
+  }
   const auto any_subscribed = [&](std::uint32_t channel) {
     for (const auto& weak : clients) {
       const auto c = weak.lock();
@@ -1089,6 +1189,7 @@ void LiveServer::publish_tick(const LiveTick& tick, core::TimeNs now_ns) {
 void LiveServer::publish_parameters(const mission::TunableParameters& in_force,
                                     core::TimeNs now_ns) {
   impl_->in_force_slot.publish(in_force, now_ns);
+  impl_->applied_request.store(impl_->consumed_request);
 }
 
 bool LiveServer::take_parameters(mission::TunableParameters& out) {

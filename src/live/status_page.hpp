@@ -21,6 +21,7 @@ input,select{font-size:1.1em;margin:.2em}
 <div id="hold"></div>
 <div id="wait"></div>
 <table id="devices"></table>
+<div id="controls"></div>
 <p><label>Token <input id="token" type="password" autocomplete="current-password"></label></p>
 <p><button onclick="send('start')">Start</button>
 <button onclick="send('hold')">Hold</button>
@@ -47,6 +48,10 @@ function refresh(){
   t('state',s.state_path,s.holding?'bad':'ok');
   t('hold',s.holding?'holding: '+s.hold_reason:'');
   t('wait',s.waiting_for?'waiting for: '+s.waiting_for:'');
+  var c=s.controls||{enabled:true};
+  t('controls',c.enabled?'':'Controls disabled: '+c.why+'. To enable them: '+c.how+'.',
+    c.enabled?'ok':'bad');
+  document.querySelectorAll('button,#token').forEach(function(b){b.disabled=!c.enabled});
   var tb=document.getElementById('devices');tb.innerHTML='';
   Object.keys(s.devices).forEach(function(k){var d=s.devices[k];var r=tb.insertRow();
    r.insertCell().textContent=k;var c=r.insertCell();c.textContent=d.state;

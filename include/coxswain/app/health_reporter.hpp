@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Turns the per-device health in a Snapshot into log lines: one line when a device's state or
-// detail changes (never one per tick), and a periodic counters line for every device.
+// the words of its detail change (never one per tick, nor one per telemetry frame whose detail
+// differs only in its numbers: a supply voltage, a sequence number), and a periodic counters
+// line for every device.
 #include <array>
 #include <string>
+#include <string_view>
 
 #include "coxswain/core/latest_store.hpp"
 
@@ -16,6 +19,9 @@ class HealthReporter {
   int report_changes(const core::Snapshot& snapshot);
   /// Logs one counters line per enabled device.
   void report_counters(const core::Snapshot& snapshot, core::TimeNs now_ns) const;
+  /// True when `a` and `b` differ at most in their numbers (runs of digits and '.'), so a
+  /// detail that only re-measures is not a new line in the log. Allocates nothing.
+  [[nodiscard]] static bool same_words(std::string_view a, std::string_view b);
   /// A one-line summary for systemd STATUS and the status page.
   [[nodiscard]] static std::string summary(const core::Snapshot& snapshot);
 

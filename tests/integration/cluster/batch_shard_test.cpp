@@ -211,3 +211,24 @@ TEST(SetParameter, AppliesAnOverlayFileWholeOrNotAtAll) {
 
 }  // namespace
 }  // namespace coxswain
+
+namespace coxswain {
+namespace {
+
+TEST(Rounded, PrintsSecondsWithoutFloatNoise) {
+  EXPECT_EQ(nlohmann::json(sim::batch::rounded(33.019999999999996)).dump(), "33.02");
+  EXPECT_EQ(nlohmann::json(sim::batch::rounded(2.0 / 3.0, 4)).dump(), "0.6667");
+  EXPECT_EQ(sim::batch::rounded(-1.0005, 3), -1.001);
+}
+
+TEST(ShellQuote, LeavesPlainWordsAndQuotesTheRest) {
+  EXPECT_EQ(sim::batch::shell_quote("config/missions/hopping.yaml"),
+            "config/missions/hopping.yaml");
+  EXPECT_EQ(sim::batch::shell_quote("avoidance.clearance_m=0.4"), "avoidance.clearance_m=0.4");
+  EXPECT_EQ(sim::batch::shell_quote("my course.yaml"), "'my course.yaml'");
+  EXPECT_EQ(sim::batch::shell_quote("it's"), "'it'\\''s'");
+  EXPECT_EQ(sim::batch::shell_quote(""), "''");
+}
+
+}  // namespace
+}  // namespace coxswain

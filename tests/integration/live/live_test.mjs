@@ -78,6 +78,7 @@ check(s.devices.lidar.state !== "running" && s.devices_ok === false,
   "absent devices are reported unhealthy");
 check(s.operator.target_colour === "red" && s.operator.target_shape === "triangle",
   "--target reached the store");
+check(s.controls && s.controls.enabled === true, "the status says the controls are enabled");
 const post = (cmd, token, body) => fetch(base + "/api/" + cmd, {
   method: "POST", body: JSON.stringify(body || {}),
   headers: token === undefined ? {} : { "X-Coxswain-Token": token } });
@@ -181,7 +182,11 @@ check(kp && typeof kp.value === "number", `heading_pid.kp_per_deg = ${kp && kp.v
 check(lastParams.parameters.some((p) => p.name === "clustering.group_gap_m"),
   "clustering parameters exposed");
 const wanted = kp.value === 0.05 ? 0.06 : 0.05;
+lastParams = null;
 client.setParameters([{ name: "heading_pid.kp_per_deg", value: wanted }], "set1");
+await until("the answer to the set", () => lastParams && lastParams.id === "set1");
+check(lastParams.parameters[0].value === wanted,
+  `the set is answered with the value the tick applied (${lastParams.parameters[0].value})`);
 await until("the new gain applied by the tick", async () => {
   lastParams = null;
   client.getParameters(["heading_pid.kp_per_deg"], "poll");
@@ -206,7 +211,9 @@ lastParams = null;
 client.getParameters([], "all2");
 await until("parameterValues", () => lastParams && lastParams.id === "all2");
 const all = lastParams.parameters;
-for (const name of ["avoidance.clearance_m", "avoidance.strategy", "avoidance.detection_range_m",
+check(["selection", "score", "risk_bin"].includes(value(all, "avoidance.strategy")),
+  `an enumeration is its name (avoidance.strategy = ${value(all, "avoidance.strategy")})`);
+for (const name of ["avoidance.clearance_m", "avoidance.detection_range_m",
   "speed.max_thrust_frac", "speed.rise_per_s", "vision.red.h_min", "vision.red.s_min",
   "vision.black.v_max", "vision.purple.h_max"]) {
   check(typeof value(all, name) === "number", `${name} exposed (${value(all, name)})`);

@@ -15,12 +15,14 @@
 #include <boost/beast/websocket.hpp>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <thread>
 
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "coxswain/live/request_guard.hpp"
+#include "coxswain/mission/tunable_parameters.hpp"
 
 namespace coxswain::live {
 namespace {
@@ -82,6 +84,7 @@ class LiveServerTest : public ::testing::Test {
         mission::TunableParameters requested;
         if (server_->take_parameters(requested)) {
           in_force = requested;
+          if (adjust_) adjust_(in_force);  // as the core may limit what it is given
           server_->publish_parameters(in_force, clock_.now_ns());
         }
         t.summary.tick_index = ++i;
@@ -158,7 +161,28 @@ class LiveServerTest : public ::testing::Test {
   std::unique_ptr<LiveServer> server_;
   std::thread tick_thread_;
   std::atomic<bool> stop_{false};
+  std::function<void(mission::TunableParameters&)> adjust_;  // set before start_tick()
 };
+
+// The next parameterValues answer with this id (status messages before it are collected).
+json answer_with_id(websocket::stream<tcp::socket>& ws, const std::string& id,
+                    std::vector<json>* statuses = nullptr) {
+  for (;;) {
+    beast::flat_buffer buf;
+    ws.read(buf);
+    if (!ws.got_text()) continue;
+    json j = json::parse(beast::buffers_to_string(buf.data()));
+    if (j["op"] == "status" && statuses != nullptr) statuses->push_back(j);
+    if (j["op"] == "parameterValues" && j.value("id", std::string()) == id) return j;
+  }
+}
+
+json value_of(const json& answer, const std::string& name) {
+  for (const auto& p : answer["parameters"]) {
+    if (p["name"] == name) return p["value"];
+  }
+  return nullptr;
+}
 
 TEST_F(LiveServerTest, ControlSocketCommandsReachTheStore) {
   struct stat st {};
@@ -529,6 +553,86 @@ TEST(LiveServerBind, ABusyPortIsReportedNotFatal) {
   b.http_address = "not-an-address";
   LiveServer third(b, *store, clock);
   EXPECT_FALSE(third.start(error));
+}
+
+}  // namespace
+}  // namespace coxswain::live
+
+namespace coxswain::live {
+namespace {
+
+TEST_F(LiveServerTest, ASetIsAnsweredWithTheValueTheTickApplied) {
+  adjust_ = [](mission::TunableParameters& p) {
+    const mission::TunableSpec* kp = mission::find_tunable("heading_pid.kp_per_deg");
+    if (kp->get(p) > 0.05) kp->set(p, 0.05);  // a core that caps the gain
+  };
+  start_tick();
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  auto ws = connect_ws(ioc, std::string("/?token=") + kToken, "", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  ws->text(true);
+  ws->write(
+      asio::buffer(json{{"op", "setParameters"},
+                        {"id", "low"},
+                        {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.03}}}}}
+                       .dump()));
+  EXPECT_DOUBLE_EQ(value_of(answer_with_id(*ws, "low"), "heading_pid.kp_per_deg").get<double>(),
+                   0.03);
+  ws->write(
+      asio::buffer(json{{"op", "setParameters"},
+                        {"id", "high"},
+                        {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.08}}}}}
+                       .dump()));
+  EXPECT_DOUBLE_EQ(value_of(answer_with_id(*ws, "high"), "heading_pid.kp_per_deg").get<double>(),
+                   0.05)
+      << "the answer is the value in force, not the one asked for";
+}
+
+TEST_F(LiveServerTest, EnumerationsAreNamesBothWays) {
+  start_tick();
+  asio::io_context ioc;
+  boost::system::error_code ec;
+  auto ws = connect_ws(ioc, std::string("/?token=") + kToken, "", ec);
+  ASSERT_FALSE(ec) << ec.message();
+  ws->text(true);
+  ws->write(asio::buffer(
+      json{{"op", "getParameters"}, {"id", "g"}, {"parameterNames", {"avoidance.strategy"}}}
+          .dump()));
+  const json before = value_of(answer_with_id(*ws, "g"), "avoidance.strategy");
+  ASSERT_TRUE(before.is_string()) << before.dump();
+  const std::string wanted = before == "score" ? "risk_bin" : "score";
+  ws->write(asio::buffer(json{{"op", "setParameters"},
+                              {"id", "s"},
+                              {"parameters", {{{"name", "avoidance.strategy"}, {"value", wanted}}}}}
+                             .dump()));
+  EXPECT_EQ(value_of(answer_with_id(*ws, "s"), "avoidance.strategy"), wanted);
+  std::vector<json> statuses;
+  ws->write(
+      asio::buffer(json{{"op", "setParameters"},
+                        {"id", "bad"},
+                        {"parameters", {{{"name", "avoidance.strategy"}, {"value", "zigzag"}}}}}
+                       .dump()));
+  EXPECT_EQ(value_of(answer_with_id(*ws, "bad", &statuses), "avoidance.strategy"), wanted);
+  ASSERT_FALSE(statuses.empty());
+  const std::string message = statuses.back()["message"].get<std::string>();
+  EXPECT_NE(message.find("one of selection score risk_bin"), std::string::npos) << message;
+}
+
+TEST_F(LiveServerTest, TheStatusSaysWhetherTheControlsWorkAndHowToEnableThem) {
+  const json with_token = json::parse(request(http::verb::get, "/api/status").body());
+  EXPECT_EQ(with_token["controls"]["enabled"], true);
+  LiveOptions o = options();
+  o.token.clear();
+  restart(o);
+  const json without = json::parse(request(http::verb::get, "/api/status").body());
+  EXPECT_EQ(without["controls"]["enabled"], false);
+  EXPECT_NE(without["controls"]["why"].get<std::string>().find("no token"), std::string::npos);
+  EXPECT_NE(without["controls"]["how"].get<std::string>().find("live.token"), std::string::npos);
+  // The page shows it (the words come from the status; the page has the place for them).
+  const std::string page = request(http::verb::get, "/").body();
+  EXPECT_NE(page.find("id=\"controls\""), std::string::npos);
+  EXPECT_NE(page.find("Controls disabled"), std::string::npos);
 }
 
 }  // namespace

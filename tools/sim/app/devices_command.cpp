@@ -93,6 +93,9 @@ void add_devices_command(CLI::App& app, int& exit_code) {
                   "seconds before the run is stopped (default: the course's limits + 60 s)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", quiet, "do not echo the daemon's log");
+  static bool no_progress = false;
+  cmd->add_flag("--no-progress", no_progress,
+                "no progress line (time, mission state, score so far) every second");
   cmd->callback([&exit_code] {
     options.course_file = course;
     options.mission_file = mission;
@@ -101,6 +104,12 @@ void add_devices_command(CLI::App& app, int& exit_code) {
     options.run_dir = run_dir.empty() ? default_run_dir() : run_dir;
     options.daemon_path = daemon;
     options.echo_daemon_log = !quiet;
+    if (!no_progress) {
+      // Flushed line by line so a pipe (tee, a CI log) sees each second as it happens.
+      options.on_progress = [](const devices_mode::DevicesProgress& p) {
+        std::cout << "progress: " << devices_mode::progress_line(p) << std::endl;
+      };
+    }
     struct sigaction sa {};
     sa.sa_handler = on_stop_signal;
     sigemptyset(&sa.sa_mask);
@@ -108,9 +117,10 @@ void add_devices_command(CLI::App& app, int& exit_code) {
     sigaction(SIGTERM, &sa, nullptr);
     try {
       devices_mode::DevicesMode mode(options);
-      std::cout << "devices mode: run directory " << options.run_dir.string() << "\n";
+      std::cout << "devices mode: run directory " << options.run_dir.string() << std::endl;
       const devices_mode::DevicesOutcome o = mode.run(&g_interrupted);
       print_outcome(o, options.run_dir.string());
+      std::cout << std::flush;
       exit_code = o.end == devices_mode::EndReason::kDaemonExited ? 1 : 0;
     } catch (const std::exception& e) {
       std::cerr << "coxswain-sim devices: " << e.what() << "\n";

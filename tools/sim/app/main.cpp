@@ -4,16 +4,27 @@
 // against the device emulators in real time (`devices`).
 #include <CLI/CLI.hpp>
 
+#include <iostream>
+#include <string>
+
 #include "commands.hpp"
+#include "coxswain/app/cli.hpp"
+#include "coxswain/version.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"coxswain-sim: the coxswain simulator (courses, boat dynamics, scoring)"};
+  app.set_version_flag("--version", std::string("coxswain-sim ") + coxswain::kVersion + " (git " +
+                                        coxswain::kGitHash + ")");
+  app.option_defaults()->always_capture_default();  // defaults shown in every --help
   app.require_subcommand(1);
   int exit_code = 0;
   coxswain::sim::app::add_course_commands(app, exit_code);
   coxswain::sim::app::add_run_commands(app, exit_code);
   coxswain::sim::app::add_devices_command(app, exit_code);
   coxswain::sim::app::add_camera_commands(app, exit_code);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto status = coxswain::app::parse_command_line(app, argc, argv, "coxswain-sim",
+                                                            std::cout, std::cerr)) {
+    return *status;
+  }
   return exit_code;
 }

@@ -122,8 +122,14 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   run->add_option("--boat", files.boat, "boat file");
   run->add_option("--devices", files.devices, "devices file");
   run->add_option("--out", out_dir, "write result.json and track.svg here");
-  run->add_option("--target-colour", target_colour, "docking target colour (overrides course)");
-  run->add_option("--target-shape", target_shape, "docking target shape (overrides course)");
+  static std::vector<std::string> target_words;
+  run->add_option("--target", target_words,
+                  "docking target COLOUR SHAPE (e.g. --target red triangle; overrides the course), "
+                  "as `coxswain run --target`")
+      ->expected(2);
+  // The former spellings, kept working but out of the help: one name across both programs.
+  run->add_option("--target-colour", target_colour)->group("");
+  run->add_option("--target-shape", target_shape)->group("");
   run->add_flag("--no-camera", no_camera, "no camera frames");
   run->add_flag("--baseline", baseline, "the documents' own algorithms (2022 naive, bearing)");
   run->add_option("--max-time", max_time_s, "hard stop, simulated seconds");
@@ -151,6 +157,10 @@ void add_run_commands(CLI::App& app, int& exit_code) {
     options.camera = !no_camera;
     options.max_time_s = max_time_s;
     options.recording_file = record_file;
+    if (target_words.size() == 2) {
+      target_colour = target_words[0];
+      target_shape = target_words[1];
+    }
     if (!target_colour.empty()) {
       const auto c = parse_colour(target_colour);
       if (!c) {
@@ -243,7 +253,7 @@ void add_run_commands(CLI::App& app, int& exit_code) {
   batch->add_option("--sensors", files.sensors, "simulated sensor file");
   batch->add_option("--boat", files.boat, "boat file");
   batch->add_option("--devices", files.devices, "devices file");
-  batch->callback([&exit_code] {
+  batch->callback([&exit_code, &app] {
     world::CourseKind kind = world::CourseKind::kObstacle;
     config::ConfigErrors errors;
     std::optional<world::Course> fixed_course;
@@ -360,12 +370,12 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                {"failure", r.failure},
                {"completed", sc.completed},
                {"collisions", sc.collisions},
-               {"elapsed_s", sc.elapsed_s},
-               {"score_s", sc.score_s},
-               {"penalty_s", sc.penalty_s},
-               {"time_limit_s", limit_s},
-               {"contest_score_s",
-                batch::contest_score_s(r.passed, sc.score_s, limit_s, sc.penalty_s)},
+               {"elapsed_s", batch::rounded(sc.elapsed_s)},
+               {"score_s", batch::rounded(sc.score_s)},
+               {"penalty_s", batch::rounded(sc.penalty_s)},
+               {"time_limit_s", batch::rounded(limit_s)},
+               {"contest_score_s", batch::rounded(batch::contest_score_s(r.passed, sc.score_s,
+                                                                         limit_s, sc.penalty_s))},
                {"mission_state", std::string(r.status.state_path.view())}};
         } catch (const std::exception& e) {
           j = {{"seed", s},
@@ -377,16 +387,18 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                {"error", e.what()}};
         }
         const std::lock_guard<std::mutex> lock(out_mutex);
+        // The bar is drawn on stderr only when that is a terminal, and taken off the line
+        // before each JSON line so the two never share a line when both go to the terminal.
+        if (tty) std::cerr << "\r\033[K" << std::flush;
         std::cout << j.dump() << "\n" << std::flush;
         results[static_cast<std::size_t>(k)] = j;
         const int d = ++done;
-        if (tty) {
+        if (tty && d < count) {
           const int width = 40;
           const int filled = count > 0 ? d * width / count : width;
-          std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+          std::cerr << "[" << std::string(static_cast<std::size_t>(filled), '#')
                     << std::string(static_cast<std::size_t>(width - filled), ' ') << "] " << d
                     << "/" << count << std::flush;
-          if (d == count) std::cerr << "\n";
         }
       }
     };
@@ -402,7 +414,44 @@ void add_run_commands(CLI::App& app, int& exit_code) {
       summary["runs_total"] = std::max(runs, 0);
       summary["seed0"] = seed0;
     }
-    std::cout << summary.dump() << "\n";
+    std::cout << summary.dump() << "\n" << std::flush;
+    // Each failed run, with the command that sails it again alone (same options, one seed).
+    std::string common = app.get_name().empty() ? "coxswain-sim" : app.get_name();
+    common += " batch";
+    common += batch_course.empty() ? " --kind " + batch::shell_quote(kind_name)
+                                   : " --course " + batch::shell_quote(batch_course);
+    if (!batch_mission.empty()) common += " --mission " + batch::shell_quote(batch_mission);
+    if (missions_dir != "config/missions") {
+      common += " --missions " + batch::shell_quote(missions_dir);
+    }
+    if (batch_baseline) common += " --baseline";
+    if (batch_no_camera) common += " --no-camera";
+    if (no_disturbances) common += " --no-disturbances";
+    if (!strategy.empty()) common += " --strategy " + batch::shell_quote(strategy);
+    if (batch_max_time_s != 900.0) {
+      common += " --max-time " + nlohmann::json(batch_max_time_s).dump();  // shortest exact form
+    }
+    if (!files.sensors.empty()) common += " --sensors " + batch::shell_quote(files.sensors);
+    if (files.boat != Files{}.boat) common += " --boat " + batch::shell_quote(files.boat);
+    if (files.devices != Files{}.devices) {
+      common += " --devices " + batch::shell_quote(files.devices);
+    }
+    for (const auto& f : set_files) common += " --set-file " + batch::shell_quote(f);
+    for (const auto& a : set_assignments) common += " --set " + batch::shell_quote(a);
+    int failed = 0;
+    for (const auto& j : results) failed += j.value("passed", false) ? 0 : 1;
+    if (failed > 0) {
+      std::cerr << "failed: " << failed << " of " << count << " runs; each one again:\n";
+      for (const auto& j : results) {
+        if (j.value("passed", false)) continue;
+        const std::string why = j.contains("error")     ? j.value("error", std::string())
+                                : j.contains("failure") ? j.value("failure", std::string())
+                                                        : std::string();
+        std::cerr << "  seed " << j.value("seed", std::uint64_t{0}) << (why.empty() ? "" : ": ")
+                  << why << "\n    " << common << " --seed0 " << j.value("seed", std::uint64_t{0})
+                  << " --runs 1 --jobs 1\n";
+      }
+    }
   });
 
   // ---- merge ----

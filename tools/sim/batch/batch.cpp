@@ -119,6 +119,28 @@ void sort_by_seed(std::vector<nlohmann::json>& lines) {
                    });
 }
 
+double rounded(double value, int decimals) {
+  if (!std::isfinite(value)) return value;
+  const double scale = std::pow(10.0, decimals);
+  return std::round(value * scale) / scale;
+}
+
+std::string shell_quote(std::string_view text) {
+  const bool plain = !text.empty() && text.find_first_not_of(
+                                          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                          "0123456789_-+=./:,@%") == std::string_view::npos;
+  if (plain) return std::string(text);
+  std::string out = "'";
+  for (const char c : text) {
+    if (c == '\'') {
+      out += "'\\''";
+    } else {
+      out += c;
+    }
+  }
+  return out + "'";
+}
+
 nlohmann::json summarize(std::vector<nlohmann::json> lines, const std::string& kind,
                          bool baseline) {
   sort_by_seed(lines);
@@ -149,16 +171,16 @@ nlohmann::json summarize(std::vector<nlohmann::json> lines, const std::string& k
           {"kind", kind},
           {"baseline", baseline},
           {"runs", runs},
-          {"success_rate", passed / n},
+          {"success_rate", rounded(passed / n, 4)},
           {"collisions", collisions},
           {"zero_collision_runs", zero},
-          {"zero_collision_rate", zero / n},
-          {"time_p50_s", percentile(times, 0.5)},
-          {"time_p90_s", percentile(times, 0.9)},
-          {"score_p50_s", percentile(scores, 0.5)},
-          {"score_p90_s", percentile(scores, 0.9)},
-          {"contest_score_mean_s", contest_sum_s / n},
-          {"contest_score_p90_s", percentile(contest, 0.9)}};
+          {"zero_collision_rate", rounded(zero / n, 4)},
+          {"time_p50_s", rounded(percentile(times, 0.5))},
+          {"time_p90_s", rounded(percentile(times, 0.9))},
+          {"score_p50_s", rounded(percentile(scores, 0.5))},
+          {"score_p90_s", rounded(percentile(scores, 0.9))},
+          {"contest_score_mean_s", rounded(contest_sum_s / n)},
+          {"contest_score_p90_s", rounded(percentile(contest, 0.9))}};
 }
 
 bool read_lines(std::istream& in, const std::string& name, Collected& into, std::string* why,

@@ -43,6 +43,13 @@ struct Shard {
 [[nodiscard]] double run_time_limit_s(const config::MissionConfig& mission, double region_limits_s,
                                       double max_time_s);
 
+/// `value` rounded to `decimals` places, for JSON output: 33.019999999999996 prints as 33.02.
+/// Run lines carry seconds to the millisecond, the summary its rates to four places.
+[[nodiscard]] double rounded(double value, int decimals = 3);
+
+/// `text` quoted for a POSIX shell when it needs it (a reproducing command line).
+[[nodiscard]] std::string shell_quote(std::string_view text);
+
 /// Sorts run lines by seed (lines without a seed last, in their order).
 void sort_by_seed(std::vector<nlohmann::json>& lines);
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -96,6 +97,21 @@ std::string_view end_reason_name(EndReason reason) {
       return "daemon exited";
   }
   return "?";
+}
+
+std::string progress_line(const DevicesProgress& p) {
+  const auto& sc = p.score;
+  std::string line = "t " + std::to_string(static_cast<long long>(std::floor(p.elapsed_s))) +
+                     " s, state " + (p.state.empty() ? std::string("(starting)") : p.state) +
+                     ", waypoints " + std::to_string(sc.waypoints.size()) + ", gates " +
+                     std::to_string(sc.gates.size()) + ", docks " +
+                     std::to_string(sc.docks.size()) + ", collisions " +
+                     std::to_string(sc.collisions);
+  char penalty[32];
+  (void)std::snprintf(penalty, sizeof penalty, ", penalty %.1f s", sc.penalty_s);
+  line += penalty;
+  if (sc.completed) line += ", completed";
+  return line;
 }
 
 std::string outcome_json(const DevicesOutcome& o) {
@@ -369,6 +385,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   const core::TimeNs t0 = clock.now_ns();
   core::TimeNs next_trace_ns = 0;
   core::TimeNs next_check_ns = 0;
+  core::TimeNs next_progress_ns = core::kNsPerSec;
   const ard::LogicConfig logic = logic_config(s.boat, kFailsafeMs);
   for (;;) {
     // 1. The Arduino's applied outputs drive the boat (no signal in the bootloader = neutral).
@@ -419,6 +436,14 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
     if (t >= next_check_ns) {
       next_check_ns += 100 * core::kNsPerMs;
       const DaemonReport r = daemon.report();
+      if (s.options.on_progress && t >= next_progress_ns) {
+        next_progress_ns += core::kNsPerSec;
+        DevicesProgress p;
+        p.elapsed_s = core::ns_to_sec(t);
+        if (!r.transitions.empty()) p.state = r.transitions.back().to;
+        p.score = scorer.result();
+        s.options.on_progress(p);
+      }
       bool all_running = true;
       for (msg::DeviceId id : kSerial) {
         auto it = r.device_state.find(std::string(msg::device_name(id)));

@@ -20,6 +20,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -35,6 +36,13 @@
 
 namespace coxswain::sim::devices_mode {
 
+/// Where a run is, once a second while it runs (DevicesModeOptions::on_progress).
+struct DevicesProgress {
+  double elapsed_s = 0.0;      // simulated (= wall) time from the start of the world
+  std::string state;           // the daemon's last logged mission state ("" before the first)
+  scoring::ScoreResult score;  // the judge's view so far (not settled: the run goes on)
+};
+
 struct DevicesModeOptions {
   std::filesystem::path course_file;
   std::filesystem::path mission_file;  // empty: <config>/missions/<course name>.yaml
@@ -47,6 +55,8 @@ struct DevicesModeOptions {
   core::TimeNs dynamics_step_ns = 10 * core::kNsPerMs;
   bool echo_daemon_log = false;  // copy the daemon's log lines to stderr
   bool record = true;            // false: the daemon runs with --no-record
+  /// Called from run()'s thread once a second of the world's time (may be empty).
+  std::function<void(const DevicesProgress&)> on_progress;
   /// Extra arguments after `run` (e.g. --run-for-s).
   std::vector<std::string> daemon_run_args;
 };
@@ -77,6 +87,10 @@ struct DevicesOutcome {
   std::uint64_t frames_written = 0;
   std::uint64_t lidar_revolutions_fed = 0;
 };
+
+/// One line of progress (no newline): "t 12 s, state transit, waypoints 2, gates 1, docks 0,
+/// collisions 0, penalty 0 s".
+std::string progress_line(const DevicesProgress& progress);
 
 /// JSON of an outcome (result.json).
 std::string outcome_json(const DevicesOutcome& outcome);
