@@ -135,7 +135,12 @@ let lastParams = null;
 client.on("serverInfo", (i) => { serverInfo = i; });
 client.on("advertise", (c) => { channels = channels.concat(c); });
 client.on("status", (m) => statuses.push(m));
-client.on("parameterValues", (p) => { lastParams = p; });
+// Every answer by its request id too: a later message must not hide the one a step waits for.
+const paramsById = new Map();
+client.on("parameterValues", (p) => {
+  lastParams = p;
+  if (p.id) paramsById.set(p.id, p);
+});
 client.on("message", ({ subscriptionId, timestamp, data }) => {
   const text = new TextDecoder().decode(data);
   if (!received.has(subscriptionId)) received.set(subscriptionId, []);
@@ -184,9 +189,9 @@ check(lastParams.parameters.some((p) => p.name === "clustering.group_gap_m"),
 const wanted = kp.value === 0.05 ? 0.06 : 0.05;
 lastParams = null;
 client.setParameters([{ name: "heading_pid.kp_per_deg", value: wanted }], "set1");
-await until("the answer to the set", () => lastParams && lastParams.id === "set1");
-check(lastParams.parameters[0].value === wanted,
-  `the set is answered with the value the tick applied (${lastParams.parameters[0].value})`);
+const set1 = await until("the answer to the set", () => paramsById.get("set1"));
+check(set1.parameters[0].value === wanted,
+  `the set is answered with the value the tick applied (${set1.parameters[0].value})`);
 await until("the new gain applied by the tick", async () => {
   lastParams = null;
   client.getParameters(["heading_pid.kp_per_deg"], "poll");
