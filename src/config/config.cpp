@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "coxswain/config/input_checks.hpp"
 #include "coxswain/config/param_tables.hpp"
 #include "coxswain/config/yaml_reader.hpp"
 #include "table_io.hpp"
@@ -208,10 +209,25 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
     auto m = root.map(key, /*required=*/key != "live");
     if (!m) return;
     read_table(*m, section, param_table<S>());
+    // Addresses, paths and URLs are checked here, as far as they can be without opening
+    // anything, so that `check-config` finds what would otherwise fail at run time.
+    const auto check_value = [&](std::string_view field,
+                                 const std::optional<std::string>& problem) {
+      if (problem) m->error(field, *problem);
+    };
     if constexpr (std::is_base_of_v<SerialDeviceConfig, S>) {
       if (section.enabled && section.path.empty()) {
         m->error("path", "must not be empty when the device is enabled");
+      } else if (section.enabled) {
+        check_value("path", validate_device_path(section.path));
       }
+    }
+    if constexpr (std::is_same_v<S, GnssDeviceConfig>) {
+      check_value("rtcm_input", validate_rtcm_input(section.rtcm_input));
+    }
+    if constexpr (std::is_same_v<S, LiveConfig>) {
+      check_value("http_address", validate_http_address(section.http_address));
+      check_value("control_socket", validate_control_socket(section.control_socket));
     }
     if constexpr (std::is_same_v<S, CameraDeviceConfig>) {
       if (section.enabled && section.source.empty()) {

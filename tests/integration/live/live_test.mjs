@@ -180,22 +180,25 @@ check(received.get(tfSub).length === afterUnsub, "no /tf after unsubscribe");
 
 // ---- parameters ----
 lastParams = null;
+paramsById.clear();
 client.getParameters([], "all");
-await until("parameterValues", () => lastParams && lastParams.id === "all");
+await until("parameterValues", () => (lastParams = paramsById.get("all") ?? null));
 const kp = lastParams.parameters.find((p) => p.name === "heading_pid.kp_per_deg");
 check(kp && typeof kp.value === "number", `heading_pid.kp_per_deg = ${kp && kp.value}`);
 check(lastParams.parameters.some((p) => p.name === "clustering.group_gap_m"),
   "clustering parameters exposed");
 const wanted = kp.value === 0.05 ? 0.06 : 0.05;
 lastParams = null;
+paramsById.clear();
 client.setParameters([{ name: "heading_pid.kp_per_deg", value: wanted }], "set1");
 const set1 = await until("the answer to the set", () => paramsById.get("set1"));
 check(set1.parameters[0].value === wanted,
   `the set is answered with the value the tick applied (${set1.parameters[0].value})`);
 await until("the new gain applied by the tick", async () => {
   lastParams = null;
+  paramsById.clear();
   client.getParameters(["heading_pid.kp_per_deg"], "poll");
-  await until("poll answer", () => lastParams && lastParams.id === "poll");
+  await until("poll answer", () => (lastParams = paramsById.get("poll") ?? null));
   return lastParams.parameters[0].value === wanted;
 });
 check(true, `heading_pid.kp_per_deg applied as ${wanted}`);
@@ -206,15 +209,17 @@ client.setParameters([{ name: "heading_pid.kp_per_deg", value: 5.0 }], "bad");
 await until("an error status for an out-of-range value", () =>
   statuses.some((m) => m.level === 2 && /kp_per_deg/.test(m.message)));
 lastParams = null;
+paramsById.clear();
 client.getParameters(["heading_pid.kp_per_deg"], "after");
-await until("answer", () => lastParams && lastParams.id === "after");
+await until("answer", () => (lastParams = paramsById.get("after") ?? null));
 check(lastParams.parameters[0].value === wanted, "the rejected value was not applied");
 
 // Avoidance, speed schedule and the vision HSV boxes, like the team's trackbars.
 const value = (params, name) => (params.find((p) => p.name === name) || {}).value;
 lastParams = null;
+paramsById.clear();
 client.getParameters([], "all2");
-await until("parameterValues", () => lastParams && lastParams.id === "all2");
+await until("parameterValues", () => (lastParams = paramsById.get("all2") ?? null));
 const all = lastParams.parameters;
 check(["selection", "score", "risk_bin"].includes(value(all, "avoidance.strategy")),
   `an enumeration is its name (avoidance.strategy = ${value(all, "avoidance.strategy")})`);
@@ -231,9 +236,10 @@ client.setParameters([{ name: "avoidance.clearance_m", value: clearance },
   { name: "speed.max_thrust_frac", value: maxThrust }], "set2");
 await until("the avoidance, vision and speed values in force", async () => {
   lastParams = null;
+  paramsById.clear();
   client.getParameters(["avoidance.clearance_m", "vision.red.s_min", "speed.max_thrust_frac"],
     "poll2");
-  await until("poll answer", () => lastParams && lastParams.id === "poll2");
+  await until("poll answer", () => (lastParams = paramsById.get("poll2") ?? null));
   return value(lastParams.parameters, "avoidance.clearance_m") === clearance &&
     value(lastParams.parameters, "vision.red.s_min") === redSat &&
     value(lastParams.parameters, "speed.max_thrust_frac") === maxThrust;
@@ -254,8 +260,9 @@ client.setParameters([{ name: "vision.red.h_min", value: 170.5 }], "bad4");
 await until("an error status for a fractional hue", () =>
   statuses.some((m) => m.level === 2 && /whole number/.test(m.message)));
 lastParams = null;
+paramsById.clear();
 client.getParameters(["avoidance.min_detection_range_m", "vision.red.s_min"], "after2");
-await until("answer", () => lastParams && lastParams.id === "after2");
+await until("answer", () => (lastParams = paramsById.get("after2") ?? null));
 check(value(lastParams.parameters, "vision.red.s_min") === redSat &&
   value(lastParams.parameters, "avoidance.min_detection_range_m") ===
     value(all, "avoidance.min_detection_range_m"), "the refused values were not applied");

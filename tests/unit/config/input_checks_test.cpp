@@ -2,8 +2,15 @@
 #include "coxswain/config/input_checks.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+
+#include "coxswain/config/config.hpp"
+#include "support/testdata.hpp"
 
 namespace coxswain::config {
 namespace {
@@ -63,6 +70,34 @@ TEST(InputChecks, DevicePathsTokensHostsAndOrigins) {
   EXPECT_FALSE(validate_allowed_origin("http://192.168.4.2:8080"));
   EXPECT_TRUE(validate_allowed_origin("app.foxglove.dev"));
   EXPECT_TRUE(validate_allowed_origin("https://app.foxglove.dev/"));
+}
+
+// The devices file's addresses, paths and URLs are checked when it is read, so `check-config`
+// reports each at its line instead of the daemon failing at run time.
+TEST(InputChecks, ADevicesFileWithBadAddressesIsRefusedAtEachLine) {
+  std::ifstream in(testing::source_dir() / "config" / "devices.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const auto swap = [&](const std::string& from, const std::string& to) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  };
+  swap("rtcm_input: \"\"", "rtcm_input: ntrip://caster:2101");
+  swap("http_address: 127.0.0.1", "http_address: localhost");
+  swap("control_socket: \"\"", "control_socket: /" + std::string(120, 's'));
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("coxswain_devices_checks_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << yaml;
+  ConfigErrors errors;
+  (void)load_devices_config(path.string(), errors);
+  std::filesystem::remove(path);
+  for (const char* key : {"gnss.rtcm_input", "live.http_address", "live.control_socket"}) {
+    bool found = false;
+    for (const ConfigIssue& i : errors.issues()) found |= i.key == key && i.line > 0;
+    EXPECT_TRUE(found) << key << " not reported:\n" << errors.format();
+  }
 }
 
 }  // namespace

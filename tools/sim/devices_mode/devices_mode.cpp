@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include <unistd.h>
+
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "sim/devices/arduino/emulator.hpp"
@@ -194,7 +196,12 @@ struct DevicesMode::Impl {
   fs::path dev_dir() const { return options.run_dir / "dev"; }
   // The daemon's control socket, where the simulated operator gives the target and the start
   // of a mission started from the control interface.
-  fs::path control_socket() const { return fs::absolute(options.run_dir) / "control.sock"; }
+  // A Unix socket path holds at most 107 bytes: a deep run directory gets one in the temp folder.
+  fs::path control_socket() const {
+    const fs::path in_run_dir = fs::absolute(options.run_dir) / "control.sock";
+    if (in_run_dir.string().size() < 100) return in_run_dir;
+    return fs::temp_directory_path() / ("coxswain-sim-" + std::to_string(::getpid()) + ".sock");
+  }
   fs::path camera_dir() const { return options.run_dir / "camera"; }
   fs::path devices_yaml() const { return options.run_dir / "devices.yaml"; }
 
