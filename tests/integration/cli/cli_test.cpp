@@ -285,6 +285,19 @@ TEST_F(Cli, OnATerminalTheBatchProgressBarNeverSharesALineWithTheJson) {
   EXPECT_TRUE(saw_bar) << "no progress bar on the terminal:\n" << r.out;
 }
 
+// The quick start runs devices mode with a run directory relative to the working directory:
+// the devices file it writes for the daemon must still be one the daemon accepts.
+TEST_F(Cli, DevicesModeWithARelativeRunDirectoryStartsTheDaemon) {
+  const fs::path relative = fs::relative(dir_ / "rel", coxswain::testing::source_dir());
+  ASSERT_FALSE(relative.is_absolute());
+  const Ran r = sim(
+      "devices --course config/courses/kaboat2022_hopping.yaml "
+      "--mission config/missions/hopping.yaml --quiet --no-progress --time-limit 1 --run-dir '" +
+      relative.string() + "'");
+  EXPECT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("daemon exit status 0"), std::string::npos) << r.out << r.err;
+}
+
 TEST_F(Cli, DevicesModeProgressArrivesThroughAPipeEverySecondWhileTheRunGoesOn) {
   const std::string cmd = "cd '" + coxswain::testing::source_dir().string() + "' && '" +
                           COXSWAIN_SIM_EXE +

@@ -193,7 +193,8 @@ struct DevicesMode::Impl {
 
   pty::EmulatorHost& serial(msg::DeviceId id) { return *hosts[static_cast<std::size_t>(id)]; }
 
-  fs::path dev_dir() const { return options.run_dir / "dev"; }
+  // Absolute: the daemon reads these paths from its devices file, which refuses relative ones.
+  fs::path dev_dir() const { return fs::absolute(options.run_dir) / "dev"; }
   // The daemon's control socket, where the simulated operator gives the target and the start
   // of a mission started from the control interface.
   // A Unix socket path holds at most 107 bytes: a deep run directory gets one in the temp folder.
