@@ -184,6 +184,19 @@ json value_of(const json& answer, const std::string& name) {
   return nullptr;
 }
 
+// Parameters are refused ("not running yet") and read back empty until the core's first tick
+// has published them: a test that starts its tick thread waits for that before using them.
+bool wait_for_first_tick(websocket::stream<tcp::socket>& ws) {
+  for (int i = 0; i < 500; ++i) {
+    ws.write(asio::buffer(json{
+        {"op", "getParameters"}, {"id", "ready"}, {"parameterNames", {"heading_pid.kp_per_deg"}}}
+                              .dump()));
+    if (!value_of(answer_with_id(ws, "ready"), "heading_pid.kp_per_deg").is_null()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
 TEST_F(LiveServerTest, ControlSocketCommandsReachTheStore) {
   struct stat st {};
   ASSERT_EQ(::stat((dir_ / "control.sock").c_str(), &st), 0);
@@ -572,6 +585,7 @@ TEST_F(LiveServerTest, ASetIsAnsweredWithTheValueTheTickApplied) {
   auto ws = connect_ws(ioc, std::string("/?token=") + kToken, "", ec);
   ASSERT_FALSE(ec) << ec.message();
   ws->text(true);
+  ASSERT_TRUE(wait_for_first_tick(*ws));
   ws->write(
       asio::buffer(json{{"op", "setParameters"},
                         {"id", "low"},
@@ -596,6 +610,7 @@ TEST_F(LiveServerTest, EnumerationsAreNamesBothWays) {
   auto ws = connect_ws(ioc, std::string("/?token=") + kToken, "", ec);
   ASSERT_FALSE(ec) << ec.message();
   ws->text(true);
+  ASSERT_TRUE(wait_for_first_tick(*ws));
   ws->write(asio::buffer(
       json{{"op", "getParameters"}, {"id", "g"}, {"parameterNames", {"avoidance.strategy"}}}
           .dump()));
