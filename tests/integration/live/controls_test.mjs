@@ -6,28 +6,10 @@
 import { spawn, spawnSync } from "node:child_process";
 import fs from "node:fs";
 import path from "node:path";
+import { check, killOnFail, until } from "./harness.mjs";
 
 const [exe, srcDir, work] = process.argv.slice(2);
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 let daemon = null;
-function fail(message) {
-  console.error("FAIL: " + message);
-  if (daemon && daemon.exitCode === null) daemon.kill("SIGKILL");
-  process.exit(1);
-}
-function check(cond, message) {
-  if (!cond) fail(message);
-  console.log("ok: " + message);
-}
-async function until(what, fn, timeoutMs = 15000) {
-  const end = Date.now() + timeoutMs;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) fail("timed out waiting for " + what);
-    await sleep(50);
-  }
-}
 
 fs.rmSync(work, { recursive: true, force: true });
 fs.mkdirSync(work, { recursive: true });
@@ -40,6 +22,7 @@ fs.writeFileSync(path.join(work, "devices.yaml"), devices);
 const logDir = path.join(work, "runs");
 daemon = spawn(exe, ["--devices", path.join(work, "devices.yaml"), "--log-dir", logDir, "run",
   "--run-for-s", "30", "--no-record"], { stdio: ["ignore", "ignore", "inherit"] });
+killOnFail(daemon);
 const runDir = await until("the run directory", () => {
   const runs = fs.existsSync(logDir) ? fs.readdirSync(logDir) : [];
   return runs.length === 1 ? path.join(logDir, runs[0]) : null;

@@ -11,32 +11,14 @@ import fs from "node:fs";
 import net from "node:net";
 import path from "node:path";
 import WebSocket from "ws";
+import { check, killOnFail, sleep, until } from "./harness.mjs";
 
 const [exe, srcDir, work] = process.argv.slice(2);
 const TOKEN = "flood-test-token-5678";
 const IDLE_TCP = 2000;
 const IDLE_CONTROL = 50;
 const FLOOD_S = 8;
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 let daemon = null;
-function fail(message) {
-  console.error("FAIL: " + message);
-  if (daemon && daemon.exitCode === null) daemon.kill("SIGKILL");
-  process.exit(1);
-}
-function check(cond, message) {
-  if (!cond) fail(message);
-  console.log("ok: " + message);
-}
-async function until(what, fn, timeoutMs = 15000) {
-  const end = Date.now() + timeoutMs;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) fail("timed out waiting for " + what);
-    await sleep(50);
-  }
-}
 // The flood (child process): prints {idleConnected, requests, hogBytes, hogClosed} as JSON.
 async function flood(port, sock, seconds) {
   let floodRunning = true;
@@ -139,6 +121,7 @@ if (env.ASAN_OPTIONS !== undefined) {
 daemon = spawn("bash", ["-c", 'ulimit -n 1024 && exec "$@"', "coxswain", exe,
   "--devices", path.join(work, "devices.yaml"), "--log-dir", logDir, "--log-level", "info",
   "run", "--run-for-s", "120", "--no-record"], { stdio: ["ignore", "ignore", "inherit"], env });
+killOnFail(daemon);
 const runDir = await until("the run directory", () => {
   const runs = fs.existsSync(logDir) ? fs.readdirSync(logDir) : [];
   return runs.length === 1 ? path.join(logDir, runs[0]) : null;

@@ -11,30 +11,12 @@ import fs from "node:fs";
 import path from "node:path";
 import wsProtocol from "@foxglove/ws-protocol";
 import WebSocket from "ws";
+import { check, fail, killOnFail, sleep, until } from "./harness.mjs";
 
 const { FoxgloveClient } = wsProtocol;
 
 const [exe, srcDir, work] = process.argv.slice(2);
 const TOKEN = "shore-test-token-1234";
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-function fail(message) {
-  console.error("FAIL: " + message);
-  if (daemon && daemon.exitCode === null) daemon.kill("SIGKILL");
-  process.exit(1);
-}
-function check(cond, message) {
-  if (!cond) fail(message);
-  console.log("ok: " + message);
-}
-async function until(what, fn, timeoutMs = 15000) {
-  const end = Date.now() + timeoutMs;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) fail("timed out waiting for " + what);
-    await sleep(50);
-  }
-}
 
 fs.rmSync(work, { recursive: true, force: true });
 fs.mkdirSync(work, { recursive: true });
@@ -48,6 +30,7 @@ const logDir = path.join(work, "runs");
 let daemon = spawn(exe, ["--devices", path.join(work, "devices.yaml"), "--log-dir", logDir,
   "run", "--run-for-s", "60", "--target", "red", "triangle"],
   { stdio: ["ignore", "inherit", "inherit"] });
+killOnFail(daemon);
 daemon.on("exit", (code) => console.log(`daemon exited with ${code}`));
 
 const runDir = await until("the run directory", () => {

@@ -14,7 +14,7 @@ if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   exit 77
 fi
 mkdir -p "$work/node"
-cp "$src/$script" "$work/node/"
+cp "$src/$script" "$src/harness.mjs" "$work/node/"
 if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
    [ ! -d "$work/node/node_modules/@foxglove/ws-protocol" ]; then
   cp "$src/package.json" "$src/package-lock.json" "$work/node/"
