@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <thread>
 
 #include "coxswain/app/core_host.hpp"
@@ -172,11 +173,25 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   auto store = std::make_unique<core::LatestStore>();
   auto snapshot = std::make_unique<core::Snapshot>();
   HealthReporter reporter;
+  // A device that cannot be opened is logged with where its path or source is set.
+  if (!config.devices.file.empty()) {
+    for (const msg::DeviceId id : {msg::DeviceId::kLidar, msg::DeviceId::kImu, msg::DeviceId::kGnss,
+                                   msg::DeviceId::kArduino}) {
+      reporter.set_origin(id,
+                          std::string(msg::device_name(id)) + ".path in " + config.devices.file);
+    }
+    reporter.set_origin(msg::DeviceId::kCamera, "camera.source in " + config.devices.file);
+  }
 
   // The mission core is built first: a configuration it rejects stops the run before any
   // device is touched.
   auto core = std::make_unique<mission::MissionCore>(config.boat, config.mission,
                                                      config::magnetometer_of(config.devices.imu));
+  if (std::string e = core->set_vision(config.vision.params); !e.empty()) {
+    throw std::invalid_argument(config.vision.file + ": " + e);
+  }
+  spdlog::info("vision: {}",
+               config.vision.file.empty() ? std::string("built-in defaults") : config.vision.file);
   auto out = std::make_unique<mission::CoreOutput>();
   auto tick_viz = std::make_unique<record::TickViz>();
 
@@ -215,8 +230,14 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   live_options.http_port = config.devices.live.http_port;
   live_options.viz_rate_hz = config.devices.live.viz_rate_hz;
   live_options.token = config.devices.live.token;
+  live_options.allowed_hosts = config.devices.live.allowed_hosts;
+  live_options.allowed_origins = config.devices.live.allowed_origins;
   live_options.initial_target_colour = options.target_colour;
   live_options.initial_target_shape = options.target_shape;
+  live_options.mission_file =
+      config.mission.file.empty() ? "" : std::filesystem::absolute(config.mission.file).string();
+  live_options.vision_file =
+      config.vision.file.empty() ? "" : std::filesystem::absolute(config.vision.file).string();
   auto live_server = std::make_unique<live::LiveServer>(live_options, *store, clock);
   auto live_tick = std::make_unique<live::LiveTick>();
   auto live_params = std::make_unique<mission::TunableParameters>();
@@ -279,8 +300,19 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   }
   if (config.devices.gnss.enabled && !rtcm_input.empty() && !rtcm_problem) {
     rtcm_queue = std::make_unique<drivers::ublox::RtcmQueue>();
-    rtcm_source =
-        std::make_unique<drivers::ublox::RtcmSource>(config.devices.gnss.rtcm_input, *rtcm_queue);
+    drivers::ublox::RtcmSourceOptions rtcm_options;
+    // Run-time problems (a refused connection, a pipe that vanished) are logged once per reason
+    // with where the input is configured, so missing RTK corrections are never silent.
+    rtcm_options.on_event = [origin = "gnss.rtcm_input in " + config.devices.file](
+                                bool problem, std::string_view what) {
+      if (problem) {
+        spdlog::warn("rtcm: {} [{}]; no RTK corrections meanwhile", what, origin);
+      } else {
+        spdlog::info("rtcm: {}", what);
+      }
+    };
+    rtcm_source = std::make_unique<drivers::ublox::RtcmSource>(config.devices.gnss.rtcm_input,
+                                                               *rtcm_queue, rtcm_options);
   }
   SerialDrivers serial_drivers(
       config.devices,

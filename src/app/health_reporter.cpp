@@ -5,6 +5,11 @@
 
 namespace coxswain::app {
 
+void HealthReporter::set_origin(msg::DeviceId id, std::string origin) {
+  const auto i = static_cast<std::size_t>(id);
+  if (i < origin_.size()) origin_[i] = std::move(origin);
+}
+
 int HealthReporter::report_changes(const core::Snapshot& snapshot) {
   int changed = 0;
   for (std::size_t i = 0; i < snapshot.health.size(); ++i) {
@@ -21,6 +26,10 @@ int HealthReporter::report_changes(const core::Snapshot& snapshot) {
     const auto state = msg::device_state_name(h.state);
     if (h.state == msg::DeviceState::kRunning || h.state == msg::DeviceState::kDisabled) {
       spdlog::info("device {}: {} ({})", name, state, detail);
+    } else if ((h.state == msg::DeviceState::kAbsent || h.state == msg::DeviceState::kError) &&
+               !origin_[i].empty()) {
+      // A device that cannot be opened is often a configuration problem: say where it is set.
+      spdlog::warn("device {}: {} ({}) [{}]", name, state, detail, origin_[i]);
     } else {
       spdlog::warn("device {}: {} ({})", name, state, detail);
     }

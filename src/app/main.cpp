@@ -21,6 +21,7 @@
 #include "coxswain/app/decode_capture.hpp"
 #include "coxswain/app/logging.hpp"
 #include "coxswain/app/run_dir.hpp"
+#include "coxswain/app/save_params.hpp"
 #include "coxswain/config/config.hpp"
 #include "coxswain/config/reference.hpp"
 #include "coxswain/config/vision_config.hpp"
@@ -106,7 +107,9 @@ int check_config(const std::vector<std::string>& files) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   CLI::App app{"coxswain: autonomy daemon for small autonomous competition boats"};
   app.set_version_flag("--version", std::string("coxswain ") + coxswain::kVersion + " (git " +
                                         coxswain::kGitHash + ")");
@@ -117,6 +120,7 @@ int main(int argc, char** argv) {
   std::string config_dir_flag;
   std::string boat_file;
   std::string devices_file;
+  std::string vision_file;
   std::string mission = "kaboat2026";
   std::string log_dir = "runs";
   if (const char* env = std::getenv("COXSWAIN_LOG_DIR"); env != nullptr && env[0] != '\0') {
@@ -125,10 +129,13 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   bool print_config = false;
   app.add_option("--config-dir", config_dir_flag,
-                 "Folder holding boat.yaml, devices.yaml and missions/ (default: installed or "
-                 "source config)");
+                 "Folder holding boat.yaml, devices.yaml, vision.yaml and missions/ (default: "
+                 "installed or source config)");
   app.add_option("--boat", boat_file, "Boat file (default: <config-dir>/boat.yaml)");
   app.add_option("--devices", devices_file, "Devices file (default: <config-dir>/devices.yaml)");
+  app.add_option("--vision", vision_file,
+                 "Vision file: the camera detectors' colour model (default: "
+                 "<config-dir>/vision.yaml; the built-in defaults when that is absent)");
   app.add_option("--mission", mission, "Mission name under <config-dir>/missions/, or a path")
       ->capture_default_str();
   app.add_option("--log-dir", log_dir, "Folder for run directories (YYMMDD-HHMMSS-<mission>-NN)")
@@ -158,8 +165,10 @@ int main(int argc, char** argv) {
 
   auto* ctl = app.add_subcommand(
       "ctl",
-      "Send a command to the running daemon: start, hold, resume, target COLOUR SHAPE, status. "
-      "Prints the daemon's one-line JSON answer");
+      "Send a command to the running daemon: start, hold, resume, target COLOUR SHAPE, status, "
+      "params. Prints the daemon's one-line JSON answer. `save-params VISION_FILE "
+      "[MISSION_FILE]` writes the parameters in force as a vision file (and the daemon's mission "
+      "file with the live values), each checked by loading it back");
   std::vector<std::string> ctl_words;
   std::string ctl_socket;
   ctl->add_option("--socket", ctl_socket,
@@ -274,8 +283,19 @@ int main(int argc, char** argv) {
   }
 
   if (ctl->parsed()) {
+    // `save-params VISION_FILE [MISSION_FILE]` asks for the parameters in force (`params`) and
+    // writes them here, where the operator is: the daemon never writes files for the socket.
+    const bool save = ctl_words.front() == "save-params";
+    if (save && (ctl_words.size() < 2 || ctl_words.size() > 3)) {
+      std::cerr << "ctl: usage: save-params VISION_FILE [MISSION_FILE]\n";
+      return kExitConfig;
+    }
     std::string line;
-    for (const std::string& w : ctl_words) line += (line.empty() ? "" : " ") + w;
+    if (save) {
+      line = "params";
+    } else {
+      for (const std::string& w : ctl_words) line += (line.empty() ? "" : " ") + w;
+    }
     if (std::string error; !coxswain::live::parse_command(line, error)) {
       std::cerr << "ctl: " << error << "\n";
       return kExitConfig;
@@ -303,6 +323,19 @@ int main(int argc, char** argv) {
     if (!answer) {
       std::cerr << "ctl: " << error << "\n";
       return kExitRuntime;
+    }
+    if (save) {
+      const fs::path mission_out = ctl_words.size() == 3 ? fs::path(ctl_words[2]) : fs::path();
+      if (const std::string problem =
+              coxswain::app::save_params(*answer, ctl_words[1], mission_out);
+          !problem.empty()) {
+        std::cerr << "ctl: save-params: " << problem << "\n";
+        return kExitRuntime;
+      }
+      std::cout << "saved the vision parameters in force to " << ctl_words[1];
+      if (!mission_out.empty()) std::cout << " and the mission's to " << mission_out.string();
+      std::cout << "\n";
+      return 0;
     }
     std::cout << *answer << "\n";
     return coxswain::live::answer_ok(*answer) ? 0 : kExitRuntime;
@@ -332,6 +365,15 @@ int main(int argc, char** argv) {
       coxswain::config::load_boat_config(boat_path, errors),
       coxswain::config::load_devices_config(devices_path, errors),
       coxswain::config::load_mission_config(mission_path, errors)};
+  // A config folder without a vision file (one made before it existed) sails on the built-in
+  // colour model; a vision file named with --vision must exist.
+  const fs::path default_vision = config_dir / "vision.yaml";
+  if (!vision_file.empty() || fs::exists(default_vision)) {
+    config.vision.file = vision_file.empty() ? default_vision.string() : vision_file;
+    if (auto v = coxswain::config::load_vision_file(config.vision.file, errors)) {
+      config.vision.params = *v;
+    }
+  }
   if (!errors.empty()) {
     std::cerr << errors.format() << errors.size() << " configuration error"
               << (errors.size() == 1 ? "" : "s") << "; nothing was started\n";
@@ -342,7 +384,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   const bool config_given = app.count("--config-dir") + app.count("--boat") +
-                                app.count("--devices") + app.count("--mission") >
+                                app.count("--devices") + app.count("--mission") +
+                                app.count("--vision") >
                             0;
   if (replay->parsed()) {
     replay_command.recording = replay_file;
@@ -394,4 +437,19 @@ int main(int argc, char** argv) {
   }
   coxswain::app::shutdown_logging();
   return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Whatever escapes (a failed allocation, a library error before the daemon's own handlers):
+  // said in one line, a runtime failure, never an abort.
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "coxswain: fatal: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "coxswain: fatal: unknown exception\n";
+  }
+  return kExitRuntime;
 }

@@ -53,8 +53,8 @@ std::optional<perception::VisionParams> load_params(const VisionOptions& o) {
     p = *loaded;
   }
   p.hfov_deg = o.hfov_deg;
-  if (const std::string e = p.validate(); !e.empty()) {
-    std::cerr << "vision: " << e << "\n";
+  if (const auto e = p.validate()) {
+    std::cerr << "vision: " << *e << "\n";
     return std::nullopt;
   }
   return p;
@@ -117,8 +117,8 @@ int run_calibrate(const VisionOptions& o) {
     add_calibration_samples(img, f, samples);
   }
   perception::VisionParams fitted = fit_colour_boxes(samples, *base);
-  if (const std::string e = fitted.validate(); !e.empty()) {
-    std::cerr << "vision: the fitted model is invalid: " << e << "\n";
+  if (const auto e = fitted.validate()) {
+    std::cerr << "vision: the fitted model is invalid: " << *e << "\n";
     return 2;
   }
   for (const auto& [colour, px] : samples.hsv) {

@@ -3,11 +3,13 @@
 // through one reader and one emitter; what is written here by hand is the files' structure
 // (tasks, waypoints, origin) and the checks that span several keys.
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/vision_config.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "coxswain/config/input_checks.hpp"
 #include "coxswain/config/param_tables.hpp"
@@ -71,9 +73,6 @@ msg::Shape read_shape(MapReader& m, std::string_view key) {
 // Reports an engine's own validation message (the engines own their cross-key rules).
 void check(MapReader& m, const std::optional<std::string>& problem) {
   if (problem) m.error("", *problem);
-}
-void check(MapReader& m, const std::string& problem) {
-  if (!problem.empty()) m.error("", problem);
 }
 
 // The checks that span several keys of one section, after its table is read.
@@ -228,6 +227,12 @@ DevicesConfig load_devices_config(const std::string& path, ConfigErrors& errors)
     if constexpr (std::is_same_v<S, LiveConfig>) {
       check_value("http_address", validate_http_address(section.http_address));
       check_value("control_socket", validate_control_socket(section.control_socket));
+      for (const std::string& host : section.allowed_hosts) {
+        check_value("allowed_hosts", validate_allowed_host(host));
+      }
+      for (const std::string& origin : section.allowed_origins) {
+        check_value("allowed_origins", validate_allowed_origin(origin));
+      }
     }
     if constexpr (std::is_same_v<S, CameraDeviceConfig>) {
       if (section.enabled && section.source.empty()) {
@@ -471,7 +476,18 @@ std::string to_yaml(const Configuration& c) {
     }
     out << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+  out << YAML::EndSeq << YAML::EndMap;
+
+  // The vision file's keys as write_vision gives them (its numbers read back bit for bit).
+  std::ostringstream vision_text;
+  write_vision(c.vision.params, vision_text);
+  out << YAML::Key << "vision" << YAML::Value << YAML::BeginMap;
+  kv(out, "file", c.vision.file);
+  for (const auto& entry : YAML::Load(vision_text.str())) {
+    if (entry.first.Scalar() == "kind") continue;
+    out << YAML::Key << entry.first << YAML::Value << entry.second;
+  }
+  out << YAML::EndMap << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 

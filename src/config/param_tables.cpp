@@ -111,10 +111,9 @@ constexpr std::array kAvoidance{
         "bin_width_deg", "deg", 0.1, 90.0, kFixed, "width of one candidate-heading bin"),
     real_param<AvoidanceParams, &AvoidanceParams::detection_range_m>(
         "detection_range_m", "m", 0.5, 30.0, kLive, "obstacles farther than this are ignored"),
-    real_param<AvoidanceParams, &AvoidanceParams::half_beam_m>("half_beam_m", "m", 0.0, 2.0, kLive,
-                                                               "half the hull's width"),
     real_param<AvoidanceParams, &AvoidanceParams::clearance_m>(
-        "clearance_m", "m", 0.0, 2.0, kLive, "extra room kept on each side of the hull"),
+        "clearance_m", "m", 0.0, 2.0, kLive,
+        "extra room kept on each side of the hull (its width is boat.yaml's hull.beam_m)"),
     real_param<AvoidanceParams, &AvoidanceParams::slow_down_range_m>(
         "slow_down_range_m", "m", 0.1, 20.0, kLive,
         "speed factor falls linearly from 1 at this range of the nearest obstacle"),
@@ -160,10 +159,6 @@ constexpr std::array kAvoidance{
         "the 2022 code's fixed margin on both ends of an obstacle"),
     bool_param<AvoidanceParams, &AvoidanceParams::sweep_enabled>(
         "sweep.enabled", kLive, "sail each candidate turn along a predicted arc (swept hull)"),
-    real_param<AvoidanceParams, &AvoidanceParams::hull_length_m>(
-        "sweep.hull_length_m", "m", 0.1, 20.0, kLive, "swept hull: bow tip to stern"),
-    real_param<AvoidanceParams, &AvoidanceParams::bow_ahead_m>(
-        "sweep.bow_ahead_m", "m", 0.0, 5.0, kLive, "swept hull: bow tip ahead of the body origin"),
     real_param<AvoidanceParams, &AvoidanceParams::pivot_ahead_m>(
         "sweep.pivot_ahead_m", "m", -10.0, 10.0, kLive,
         "swept hull: turning pivot ahead of the body origin"),
@@ -378,7 +373,8 @@ constexpr std::array kNavigation{
     real_param<NavigationConfig, &NavigationConfig::filter,
                &guidance::NavFilterParams::gnss_velocity_sigma_mps>(
         "filter.gnss_velocity_sigma_mps", "m/s", 0.001, 5.0, kFixed,
-        "GNSS velocity noise per axis when the fix has no sAcc"),
+        "GNSS velocity noise per axis: when the fix has no sAcc, and the floor under sAcc / sqrt "
+        "2"),
     bool_param<NavigationConfig, &NavigationConfig::filter,
                &guidance::NavFilterParams::cog_heading_update>(
         "filter.cog_heading_update", kFixed,
@@ -907,6 +903,11 @@ constexpr std::array kLiveServer{
         "Foxglove messages per channel at most this often"),
     core::secret_param<LiveConfig, &LiveConfig::token>(
         "token", "needed by every state-changing request; \"\" = control disabled"),
+    core::text_list_param<LiveConfig, &LiveConfig::allowed_hosts>(
+        "allowed_hosts",
+        "host names besides IP literals and localhost that name this server (e.g. boat.local)"),
+    core::text_list_param<LiveConfig, &LiveConfig::allowed_origins>(
+        "allowed_origins", "browser origins (scheme://host[:port]) besides the server's own"),
 };
 
 }  // namespace

@@ -28,6 +28,8 @@ json default_of(const core::ParamSpec<S>& row) {
       return std::string(row.choice_name(row.default_value()));
     case core::ParamType::kText:
       return row.secret ? std::string{} : row.default_text();
+    case core::ParamType::kTextList:
+      return row.default_list();
   }
   return nullptr;
 }
@@ -70,6 +72,10 @@ json value_schema(const core::ParamSpec<S>& row) {
     }
     case core::ParamType::kText:
       v["type"] = "string";
+      break;
+    case core::ParamType::kTextList:
+      v["type"] = "array";
+      v["items"] = {{"type", "string"}};
       break;
   }
   return v;

@@ -34,6 +34,19 @@ void read_row(MapReader& m, S& s, const core::ParamSpec<S>& row, std::string_vie
     case core::ParamType::kText:
       row.set_text(s, m.get<std::string>(key, row.get_text(s)));
       return;
+    case core::ParamType::kTextList: {
+      if (!m.has(key)) return;
+      std::vector<std::string> items;
+      for (const YAML::Node& item : m.sequence(key)) {
+        if (!item.IsScalar()) {
+          m.error(key, "must be a list of strings");
+          return;
+        }
+        items.push_back(item.Scalar());
+      }
+      row.set_list(s, items);
+      return;
+    }
     case core::ParamType::kEnum: {
       if (!m.has(key)) return;
       const std::string text = m.get<std::string>(key, std::string{});
@@ -123,6 +136,9 @@ void emit_row(YAML::Emitter& out, const S& s, const core::ParamSpec<S>& row, std
       out << (row.secret ? std::string(text.empty() ? "" : "(set)") : text);
       return;
     }
+    case core::ParamType::kTextList:
+      out << YAML::Flow << row.get_list(s);
+      return;
   }
 }
 

@@ -2,6 +2,8 @@
 #include "coxswain/config/vision_config.hpp"
 
 #include <array>
+#include <charconv>
+#include <string>
 
 namespace coxswain::config {
 namespace {
@@ -14,6 +16,13 @@ constexpr std::array<msg::Colour, 8> kColours{
 
 std::uint8_t byte(MapReader& r, std::string_view key, std::uint8_t fallback, int max) {
   return static_cast<std::uint8_t>(r.get<int>(key, fallback, {0, max}));
+}
+
+// The shortest text that reads back as the same double: a saved file loads back bit for bit.
+std::string num(double v) {
+  std::array<char, 32> buf{};
+  const auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  return ec == std::errc{} ? std::string(buf.data(), end) : std::to_string(v);
 }
 
 }  // namespace
@@ -95,8 +104,8 @@ std::optional<VisionParams> load_vision_file(const std::string& path, ConfigErro
   VisionParams p = read_vision(r, base);
   r.finish();
   if (!errors.empty()) return std::nullopt;
-  if (const std::string e = p.validate(); !e.empty()) {
-    errors.add({path, 0, "", e});
+  if (const auto e = p.validate()) {
+    errors.add({path, 0, "", *e});
     return std::nullopt;
   }
   return p;
@@ -122,9 +131,9 @@ void write_vision(const VisionParams& p, std::ostream& out) {
   out << "blur_kernel_px: " << p.blur_kernel_px << "          # Gaussian pre-blur, odd; 0 = off\n"
       << "open_kernel_px: " << p.open_kernel_px << "          # opening removes specks; 0 = off\n"
       << "close_kernel_px: " << p.close_kernel_px << "         # closing fills pinholes; 0 = off\n"
-      << "min_area_fraction: " << p.min_area_fraction << "   # smallest marker, of the frame\n"
-      << "buoy_min_area_fraction: " << p.buoy_min_area_fraction << "\n"
-      << "buoy_min_solidity: " << p.buoy_min_solidity << "\n"
+      << "min_area_fraction: " << num(p.min_area_fraction) << "   # smallest marker, of the frame\n"
+      << "buoy_min_area_fraction: " << num(p.buoy_min_area_fraction) << "\n"
+      << "buoy_min_solidity: " << num(p.buoy_min_solidity) << "\n"
       << "edge_margin_px: " << p.edge_margin_px << "          # shapes this close to the border "
       << "are cut\n"
       << "buoy_reject_edge: " << (p.buoy_reject_edge ? "true" : "false") << "\n"
@@ -132,24 +141,24 @@ void write_vision(const VisionParams& p, std::ostream& out) {
       << "  enabled: " << (g.enabled ? "true" : "false") << "\n"
       << "  strips: " << g.strips << "   # horizontal strips, each with its own model\n"
       << "  sample_step_px: " << g.sample_step_px << "\n"
-      << "  min_share: " << g.min_share << "   # the dominant colour's share of the band\n"
-      << "  reject_sigma: " << g.reject_sigma << "   # Mahalanobis radius rejected\n"
-      << "  min_sigma: " << g.min_sigma << "   # grey levels\n"
-      << "  max_sigma: " << g.max_sigma << "   # grey levels\n"
+      << "  min_share: " << num(g.min_share) << "   # the dominant colour's share of the band\n"
+      << "  reject_sigma: " << num(g.reject_sigma) << "   # Mahalanobis radius rejected\n"
+      << "  min_sigma: " << num(g.min_sigma) << "   # grey levels\n"
+      << "  max_sigma: " << num(g.max_sigma) << "   # grey levels\n"
       << "  max_saturation: " << g.max_saturation
       << "   # 0..255; a more saturated band is a marker up close\n"
       << "shape:\n"
-      << "  approx_epsilon_fraction: " << s.approx_epsilon_fraction << "\n"
-      << "  convex_min_solidity: " << s.convex_min_solidity << "\n"
-      << "  cross_max_solidity: " << s.cross_max_solidity << "\n"
-      << "  cross_min_solidity: " << s.cross_min_solidity << "\n"
-      << "  cross_min_defect_depth: " << s.cross_min_defect_depth << "\n"
-      << "  triangle_max_extent: " << s.triangle_max_extent << "\n"
-      << "  rectangle_min_extent: " << s.rectangle_min_extent << "\n"
-      << "  circle_min_circularity: " << s.circle_min_circularity << "\n"
-      << "  circle_max_extent: " << s.circle_max_extent << "\n"
-      << "  min_fill_ratio: " << s.min_fill_ratio << "\n"
-      << "  island_min_hole_fraction: " << s.island_min_hole_fraction << "\n";
+      << "  approx_epsilon_fraction: " << num(s.approx_epsilon_fraction) << "\n"
+      << "  convex_min_solidity: " << num(s.convex_min_solidity) << "\n"
+      << "  cross_max_solidity: " << num(s.cross_max_solidity) << "\n"
+      << "  cross_min_solidity: " << num(s.cross_min_solidity) << "\n"
+      << "  cross_min_defect_depth: " << num(s.cross_min_defect_depth) << "\n"
+      << "  triangle_max_extent: " << num(s.triangle_max_extent) << "\n"
+      << "  rectangle_min_extent: " << num(s.rectangle_min_extent) << "\n"
+      << "  circle_min_circularity: " << num(s.circle_min_circularity) << "\n"
+      << "  circle_max_extent: " << num(s.circle_max_extent) << "\n"
+      << "  min_fill_ratio: " << num(s.min_fill_ratio) << "\n"
+      << "  island_min_hole_fraction: " << num(s.island_min_hole_fraction) << "\n";
 }
 
 }  // namespace coxswain::config

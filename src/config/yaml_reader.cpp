@@ -22,8 +22,9 @@ std::string ConfigErrors::format() const {
   return out;
 }
 
-MapReader::MapReader(YAML::Node node, std::string file, std::string path, ConfigErrors& errors)
-    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)), errors_(&errors) {
+MapReader::MapReader(const YAML::Node& node, std::string file, std::string path,
+                     ConfigErrors& errors)
+    : node_(node), file_(std::move(file)), path_(std::move(path)), errors_(&errors) {
   if (!node_.IsMap()) {
     // An empty document or an empty nested map is read as null: treat it as an empty map.
     if (node_.IsNull() || !node_.IsDefined()) {
@@ -125,11 +126,35 @@ void MapReader::finish() {
 
 namespace {
 
+// The walk of a document: counts the values it visits (an alias each time it is used) and stops
+// at the first bound passed.
+struct DocumentWalk {
+  std::size_t nodes = 0;
+  bool too_big = false;
+};
+
 // Duplicate keys anywhere below `node` (yaml-cpp keeps both pairs and answers lookups with the
-// first, so a second `baud:` would be silently ignored).
+// first, so a second `baud:` would be silently ignored); nesting and size bounded, so no reader
+// walks a document without end.
 void check_duplicate_keys(const YAML::Node& node, const std::string& path, ConfigErrors& errors,
-                          int depth) {
-  if (depth > 256) return;  // yaml-cpp refuses deeper documents itself
+                          int depth, DocumentWalk& walk) {
+  if (walk.too_big) return;
+  if (++walk.nodes > kMaxConfigNodes) {
+    walk.too_big = true;
+    errors.add({path, 0, "",
+                "expands to more than " + std::to_string(kMaxConfigNodes) +
+                    " values (anchors and aliases counted each time they are used); a config "
+                    "file may have at most that many"});
+    return;
+  }
+  if (depth > kMaxConfigDepth) {
+    walk.too_big = true;
+    const int line = node.Mark().line;
+    errors.add({path, line >= 0 ? line + 1 : 0, "",
+                "nests maps and lists deeper than " + std::to_string(kMaxConfigDepth) +
+                    " levels; a config file may not"});
+    return;
+  }
   if (node.IsMap()) {
     std::map<std::string, int, std::less<>> first_line;
     for (const auto& kv : node) {
@@ -141,10 +166,14 @@ void check_duplicate_keys(const YAML::Node& node, const std::string& path, Confi
                       "is a duplicate key (first at line " + std::to_string(it->second) + ")"});
         }
       }
-      check_duplicate_keys(kv.second, path, errors, depth + 1);
+      check_duplicate_keys(kv.second, path, errors, depth + 1, walk);
+      if (walk.too_big) return;
     }
   } else if (node.IsSequence()) {
-    for (const auto& item : node) check_duplicate_keys(item, path, errors, depth + 1);
+    for (const auto& item : node) {
+      check_duplicate_keys(item, path, errors, depth + 1, walk);
+      if (walk.too_big) return;
+    }
   }
 }
 
@@ -203,7 +232,8 @@ std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& 
     return std::nullopt;
   }
   const std::size_t before = errors.size();
-  check_duplicate_keys(docs[0], path, errors, 0);
+  DocumentWalk walk;
+  check_duplicate_keys(docs[0], path, errors, 0, walk);
   if (errors.size() != before) return std::nullopt;
   return docs[0];
 }

@@ -43,7 +43,7 @@ std::optional<ControlCommand> parse_command(std::string_view line, std::string& 
   const std::vector<std::string_view> words = split_words(line);
   error.clear();
   if (words.empty()) {
-    error = "empty command (start, hold, resume, target <colour> <shape>, status)";
+    error = "empty command (start, hold, resume, target <colour> <shape>, status, params)";
     return std::nullopt;
   }
   const std::string_view verb = words[0];
@@ -58,6 +58,7 @@ std::optional<ControlCommand> parse_command(std::string_view line, std::string& 
   if (verb == "hold") return single(CommandKind::kHold);
   if (verb == "resume") return single(CommandKind::kResume);
   if (verb == "status") return single(CommandKind::kStatus);
+  if (verb == "params") return single(CommandKind::kParams);
   if (verb == "target") {
     if (words.size() != 3) {
       error = "usage: target <colour> <shape>";
@@ -76,7 +77,7 @@ std::optional<ControlCommand> parse_command(std::string_view line, std::string& 
     return ControlCommand{CommandKind::kTarget, *colour, *shape};
   }
   error = "unknown command '" + std::string(verb) +
-          "' (start, hold, resume, target <colour> <shape>, status)";
+          "' (start, hold, resume, target <colour> <shape>, status, params)";
   return std::nullopt;
 }
 
@@ -98,6 +99,7 @@ const msg::OperatorInput& OperatorState::apply(const ControlCommand& command, co
       input_.target_shape = command.shape;
       break;
     case CommandKind::kStatus:
+    case CommandKind::kParams:
       break;
   }
   input_.stamp_ns = now_ns;

@@ -14,11 +14,13 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <deque>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <utility>
@@ -28,6 +30,7 @@
 #include <malloc.h>
 #endif
 
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/live/request_guard.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
@@ -218,6 +221,28 @@ struct LiveServer::Impl {
     return answer.dump(-1, ' ', false, json::error_handler_t::replace);
   }
 
+  // The parameters in force: every named one, the vision file they make (write_vision, so it
+  // loads back unchanged) and the files the daemon started from.
+  std::string params_answer() {
+    const core::Sample<mission::TunableParameters> in_force = in_force_slot.read();
+    if (!in_force.valid()) {
+      return json{{"ok", false}, {"error", "no parameters in force yet"}}.dump();
+    }
+    json values = json::object();
+    for (const mission::TunableSpec& spec : mission::tunable_specs()) {
+      const double v = spec.get(in_force.value);
+      if (std::isfinite(v)) values[spec.name] = v;
+    }
+    std::ostringstream vision;
+    config::write_vision(in_force.value.vision, vision);
+    json answer = {{"ok", true},
+                   {"parameters", std::move(values)},
+                   {"vision_yaml", vision.str()},
+                   {"mission_file", options.mission_file},
+                   {"vision_file", options.vision_file}};
+    return answer.dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+
   // Whether the buttons and live tuning can work at all, and if not how to make them.
   json controls_json() const {
     if (options.token.empty()) {
@@ -233,6 +258,7 @@ struct LiveServer::Impl {
   // Runs a parsed command; returns the JSON answer line (no newline).
   std::string run_command(const ControlCommand& cmd, std::string_view via) {
     if (cmd.kind == CommandKind::kStatus) return status_answer();
+    if (cmd.kind == CommandKind::kParams) return params_answer();
     {
       const std::lock_guard lock(state_mutex);
       publish_operator(operator_state.apply(cmd, clock.now_ns()));
@@ -253,6 +279,7 @@ struct LiveServer::Impl {
                std::string(msg::shape_name(cmd.shape));
         break;
       case CommandKind::kStatus:
+      case CommandKind::kParams:
         break;
     }
     spdlog::info("control: {} (from {})", what, via);
@@ -267,9 +294,10 @@ struct LiveServer::Impl {
   std::string handle_line(std::string_view line) {
     std::string error;
     const auto cmd = parse_command(line, error);
-    if (!cmd)
+    if (!cmd) {
       return json{{"ok", false}, {"error", error}}.dump(-1, ' ', false,
                                                         json::error_handler_t::replace);
+    }
     return run_command(*cmd, "control socket");
   }
 
@@ -503,7 +531,7 @@ struct LiveServer::Impl {
       if (!err.empty()) {
         problems.push_back(status_op(2, "rejected: " + err, id));
         spdlog::warn("live: parameter {} rejected: {}", name, err);
-        emit_log(fox::LogLevel::kWarning, "parameter " + name + " rejected: " + err);
+        emit_log(fox::LogLevel::kWarning, fmt::format("parameter {} rejected: {}", name, err));
         continue;
       }
       // Logged as the client will see it: an enumeration by its name.
@@ -513,7 +541,7 @@ struct LiveServer::Impl {
         shown = spec->choices[static_cast<std::size_t>(*requested)];
       }
       spdlog::info("live: parameter {} = {} requested", name, shown);
-      emit_log(fox::LogLevel::kInfo, "parameter " + name + " = " + shown + " requested");
+      emit_log(fox::LogLevel::kInfo, fmt::format("parameter {} = {} requested", name, shown));
       changed = true;
     }
     if (changed) {
@@ -602,7 +630,8 @@ class LiveServer::Impl::WsSession : public std::enable_shared_from_this<WsSessio
         peer_(std::move(peer)),
         last_request_(std::chrono::steady_clock::now()) {}
 
-  void run(http::request<http::string_body> req) {
+  // The upgrade request is read while async_accept starts (Beast builds its response there).
+  void run(const http::request<http::string_body>& req) {
     websocket::stream_base::timeout timeout{};
     timeout.handshake_timeout = seconds(impl_.options.header_timeout_s);
     timeout.idle_timeout = websocket::stream_base::none();  // see LiveServer::Impl::sweep

@@ -65,8 +65,7 @@ class Docking2022Task final : public AvoidingTask {
         config_colour_(t.target_colour),
         config_shape_(t.target_shape) {
     check(m.docking.approach.validate());
-    const std::string vote_problem = m.vision_vote.validate();
-    if (!vote_problem.empty()) throw std::invalid_argument(vote_problem);
+    if (auto vote_problem = m.vision_vote.validate()) throw std::invalid_argument(*vote_problem);
     slip_count_ = std::min(t.slips.size(), kMaxSlips);
     core::NavPoint centre;
     for (std::size_t i = 0; i < slip_count_; ++i) {

@@ -2,9 +2,9 @@
 #include "coxswain/mission/mission_core.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -102,6 +102,14 @@ double age_ms(const core::TimeNs age_ns) {
   return age_ns == INT64_MAX ? -1.0 : static_cast<double>(age_ns) / 1e6;
 }
 
+// The hull the avoidance keeps clear is the boat's (boat.yaml), not a mission setting.
+config::MissionConfig with_hull(config::MissionConfig m, const config::HullConfig& hull) {
+  m.avoidance.half_beam_m = 0.5 * hull.beam_m;
+  m.avoidance.hull_length_m = hull.length_m;
+  m.avoidance.bow_ahead_m = hull.bow_overhang_m;
+  return m;
+}
+
 }  // namespace
 
 struct MissionCore::Impl {
@@ -109,7 +117,7 @@ struct MissionCore::Impl {
 
   Impl(const config::BoatConfig& boat, const config::MissionConfig& mission,
        const guidance::MagCalibration& magnetometer)
-      : m(mission),
+      : m(with_hull(mission, boat.hull)),
         camera_timeout_ms(mission.camera_stale_ms),
         gnss_mount(boat.mounts.gnss),
         frame(mission.origin),
@@ -153,8 +161,8 @@ struct MissionCore::Impl {
               t.type == config::TaskType::kCourse1;
     }
     if (!plans) return;
-    if (std::string e = m.planning.validate(); !e.empty()) {
-      throw std::invalid_argument("planning: " + e);
+    if (auto e = m.planning.validate()) {
+      throw std::invalid_argument("planning: " + *e);
     }
     std::vector<core::NavPoint> boundary;
     for (const auto& g : m.planning.boundary) boundary.push_back(frame.to_nav(g));
@@ -774,7 +782,7 @@ std::string MissionCore::apply_parameters(const TunableParameters& params) {
   for (const TunableSpec& spec : tunable_specs()) {
     const double value = spec.get(params);
     const double was = spec.get(before);
-    if (std::memcmp(&value, &was, sizeof value) == 0) continue;
+    if (std::bit_cast<std::uint64_t>(value) == std::bit_cast<std::uint64_t>(was)) continue;
     if (std::string e = check_tunable(spec, value); !e.empty()) return e;
     spec.set(next, value);
   }
@@ -798,6 +806,12 @@ std::string MissionCore::apply_parameters(const TunableParameters& params) {
     im.ramp.reset(thrust);
   }
   im.vision = next.vision;
+  return {};
+}
+
+std::string MissionCore::set_vision(const perception::VisionParams& vision) {
+  if (auto e = vision.validate()) return "vision: " + *e;
+  impl_->vision = vision;
   return {};
 }
 

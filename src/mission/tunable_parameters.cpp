@@ -3,9 +3,9 @@
 
 #include "coxswain/config/param_tables.hpp"
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <string>
 
 namespace coxswain::mission {
@@ -24,6 +24,7 @@ void add_live_rows(std::vector<TunableSpec>& out, std::string_view section, Tuna
     t.min = row.min;
     t.max = row.max;
     t.integer = row.type != core::ParamType::kReal;
+    t.boolean = row.type == core::ParamType::kBool;
     t.unit = std::string(row.unit);
     t.doc = std::string(row.doc);
     if (row.type == core::ParamType::kEnum) {
@@ -88,7 +89,9 @@ std::vector<TunableSpec> build_specs() {
   return s;
 }
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
 
 }  // namespace
 
@@ -106,10 +109,10 @@ const TunableSpec* find_tunable(std::string_view name) {
 
 std::string validate_tunables(const TunableParameters& p) {
   if (auto e = p.heading_pid.validate()) return "heading_pid: " + *e;
-  if (auto e = p.clustering.validate(); !e.empty()) return "clustering: " + e;
-  if (auto e = p.avoidance.validate(); !e.empty()) return "avoidance: " + e;
+  if (auto e = p.clustering.validate()) return "clustering: " + *e;
+  if (auto e = p.avoidance.validate()) return "avoidance: " + *e;
   if (auto e = p.speed.validate()) return "speed: " + *e;
-  if (auto e = p.vision.validate(); !e.empty()) return "vision: " + e;
+  if (auto e = p.vision.validate()) return "vision: " + *e;
   return {};
 }
 

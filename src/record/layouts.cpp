@@ -1,298 +1,462 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/record/layouts.hpp"
 
+#include <array>
+#include <concepts>
+#include <memory>
+#include <string>
+#include <type_traits>
+
 namespace coxswain::record {
 namespace {
 
-template <class E>
-void put_enum(ByteWriter& w, E e) {
-  w.u8(static_cast<std::uint8_t>(e));
+// Each message's fields are listed once, in its `fields(io, m, version)` below. The same list
+// writes (WriteIo), reads (ReadIo) and documents (DescribeIo: the schema text in every recording
+// and in FORMAT.md) the layout, so the three cannot drift apart. A field added to a message later
+// is listed with `io.since(version, ...)`: older messages read it as the struct's default.
+
+template <class T>
+struct IsStdArray : std::false_type {};
+template <class T, std::size_t N>
+struct IsStdArray<std::array<T, N>> : std::true_type {};
+
+template <class T>
+void write_value(ByteWriter& w, const T& v) {
+  if constexpr (IsStdArray<T>::value) {
+    for (const auto& e : v) write_value(w, e);
+  } else if constexpr (std::is_same_v<T, bool>) {
+    w.boolean(v);
+  } else if constexpr (std::is_enum_v<T>) {
+    static_assert(sizeof(T) == 1, "enums travel as u8");
+    w.u8(static_cast<std::uint8_t>(v));
+  } else if constexpr (std::is_same_v<T, float>) {
+    w.f32(v);
+  } else if constexpr (std::is_same_v<T, double>) {
+    w.f64(v);
+  } else if constexpr (std::is_same_v<T, std::uint8_t>) {
+    w.u8(v);
+  } else if constexpr (std::is_same_v<T, std::uint16_t>) {
+    w.u16(v);
+  } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+    w.u32(v);
+  } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+    w.u64(v);
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    w.i32(v);
+  } else {
+    static_assert(std::is_same_v<T, std::int64_t>, "no wire type for this field");
+    w.i64(v);
+  }
 }
-template <class E>
-E get_enum(ByteReader& r) {
-  return static_cast<E>(r.u8());
+
+template <class T>
+void read_value(ByteReader& r, T& v) {
+  if constexpr (IsStdArray<T>::value) {
+    for (auto& e : v) read_value(r, e);
+  } else if constexpr (std::is_same_v<T, bool>) {
+    v = r.boolean();
+  } else if constexpr (std::is_enum_v<T>) {
+    v = static_cast<T>(r.u8());
+  } else if constexpr (std::is_same_v<T, float>) {
+    v = r.f32();
+  } else if constexpr (std::is_same_v<T, double>) {
+    v = r.f64();
+  } else if constexpr (std::is_same_v<T, std::uint8_t>) {
+    v = r.u8();
+  } else if constexpr (std::is_same_v<T, std::uint16_t>) {
+    v = r.u16();
+  } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+    v = r.u32();
+  } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+    v = r.u64();
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    v = r.i32();
+  } else {
+    static_assert(std::is_same_v<T, std::int64_t>, "no wire type for this field");
+    v = r.i64();
+  }
+}
+
+template <class T>
+void describe_type(std::string& out) {
+  if constexpr (IsStdArray<T>::value) {
+    describe_type<typename T::value_type>(out);
+    out += '[' + std::to_string(std::tuple_size_v<T>) + ']';
+  } else if constexpr (std::is_same_v<T, bool> || std::is_enum_v<T> ||
+                       std::is_same_v<T, std::uint8_t>) {
+    out += "u8";
+  } else if constexpr (std::is_same_v<T, float>) {
+    out += "f32";
+  } else if constexpr (std::is_same_v<T, double>) {
+    out += "f64";
+  } else if constexpr (std::is_same_v<T, std::uint16_t>) {
+    out += "u16";
+  } else if constexpr (std::is_same_v<T, std::uint32_t>) {
+    out += "u32";
+  } else if constexpr (std::is_same_v<T, std::uint64_t>) {
+    out += "u64";
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    out += "i32";
+  } else {
+    out += "i64";
+  }
+}
+
+struct WriteIo {
+  ByteWriter& w;
+  std::uint8_t version = 0;
+
+  template <class T>
+  void field(std::string_view /*name*/, const T& v, std::string_view /*note*/ = {}) {
+    write_value(w, v);
+  }
+  template <class T>
+  void since(std::uint8_t first_version, std::string_view name, const T& v) {
+    if (version >= first_version) field(name, v);
+  }
+  // `count` elements of `items` (at most `max_count`), written by `element(io, item)`; the count
+  // itself is a field listed before (`count_written`) or written here (`count_name`).
+  template <class Items, class Element>
+  void elements(std::string_view /*count_name*/, bool count_written, std::uint32_t count,
+                std::size_t max_count, const Items& items, Element element) {
+    const std::uint32_t n = count < max_count ? count : static_cast<std::uint32_t>(max_count);
+    if (!count_written) w.u32(n);
+    for (std::uint32_t i = 0; i < n; ++i) element(*this, items[i]);
+  }
+  void text(std::string_view /*name*/, std::string_view value, std::size_t max_len) {
+    w.str16(value, max_len);
+  }
+};
+
+struct ReadIo {
+  ByteReader& r;
+  std::uint8_t version = 0;
+  bool ok = true;
+
+  template <class T>
+  void field(std::string_view /*name*/, T& v, std::string_view /*note*/ = {}) {
+    read_value(r, v);
+  }
+  template <class T>
+  void since(std::uint8_t first_version, std::string_view name, T& v) {
+    if (version >= first_version) field(name, v);
+  }
+  template <class Items, class Element>
+  void elements(std::string_view /*count_name*/, bool count_written, std::uint32_t& count,
+                std::size_t max_count, Items& items, Element element) {
+    if (!count_written) count = r.u32();
+    if (r.underrun() || count > max_count) {
+      ok = false;
+      return;
+    }
+    for (std::uint32_t i = 0; i < count; ++i) element(*this, items[i]);
+  }
+  template <class Setter>
+  void text(std::string_view /*name*/, Setter set) {
+    set(r.str16());
+  }
+};
+
+struct DescribeIo {
+  std::string out;
+  std::uint8_t version = 0;
+
+  void separate() {
+    if (!out.empty() && out.back() != '(') out += "; ";
+  }
+  template <class T>
+  void field(std::string_view name, const T& /*v*/, std::string_view note = {}) {
+    separate();
+    describe_type<T>(out);
+    out += ' ';
+    out += name;
+    if (!note.empty()) {
+      out += " (";
+      out += note;
+      out += ')';
+    }
+  }
+  template <class T>
+  void since(std::uint8_t first_version, std::string_view name, const T& v) {
+    field(name, v, "since v" + std::to_string(first_version));
+  }
+  template <class Items, class Element>
+  void elements(std::string_view count_name, bool count_written, std::uint32_t /*count*/,
+                std::size_t /*max_count*/, const Items& items, Element element) {
+    if (!count_written) {
+      separate();
+      out += "u32 ";
+      out += count_name;
+    }
+    separate();
+    out += count_name;
+    out += " x (";
+    element(*this, items[0]);
+    out += ')';
+  }
+  void text(std::string_view name, std::string_view /*value*/, std::size_t /*max_len*/) {
+    separate();
+    out += "u16 n + char[n] ";
+    out += name;
+  }
+};
+
+// Each `fields` takes `M&` (reading) or `const M&` (writing and describing).
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::GnssFix>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("source", m.source);
+  io.field("fix_type", m.fix_type);
+  io.field("fix_ok", m.fix_ok);
+  io.field("diff_soln", m.diff_soln);
+  io.field("rtk", m.rtk);
+  io.field("lat_deg", m.lat_deg);
+  io.field("lon_deg", m.lon_deg);
+  io.field("height_msl_m", m.height_msl_m);
+  io.field("h_acc_m", m.h_acc_m);
+  io.field("v_acc_m", m.v_acc_m);
+  io.field("hdop", m.hdop);
+  io.field("satellites", m.satellites);
+  io.field("velocity_valid", m.velocity_valid);
+  io.field("vel_north_mps", m.vel_north_mps);
+  io.field("vel_east_mps", m.vel_east_mps);
+  io.field("vel_down_mps", m.vel_down_mps);
+  io.field("ground_speed_mps", m.ground_speed_mps);
+  io.field("course_deg", m.course_deg);
+  io.field("utc_ns", m.utc_ns);
+  io.field("itow_ms", m.itow_ms);
+  io.since(2, "s_acc_mps", m.s_acc_mps);
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::ImuSample>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("roll_deg", m.roll_deg);
+  io.field("pitch_deg", m.pitch_deg);
+  io.field("yaw_magnetic_deg", m.yaw_magnetic_deg);
+  io.field("heading_deg", m.heading_deg);
+  io.field("accel_g", m.accel_g);
+  io.field("gyro_dps", m.gyro_dps);
+  io.field("mag_ut", m.mag_ut);
+  io.field("temperature_c", m.temperature_c);
+  io.field("has_inertial", m.has_inertial);
+  io.field("sequence", m.sequence);
+}
+
+template <class Io, class M>
+void lidar_header_fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("duration_ns", m.duration_ns);
+  io.field("max_range_m", m.max_range_m);
+  io.field("min_range_m", m.min_range_m);
+  io.field("revolution", m.revolution);
+  io.field("point_count", m.point_count);
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::LidarScan>
+void fields(Io& io, M& m) {
+  lidar_header_fields(io, m);
+  io.elements("point_count", true, m.point_count, msg::LidarScan::kMaxPoints, m.points,
+              [](auto& e, auto& p) {
+                e.field("bearing_deg", p.bearing_deg, "body frame");
+                e.field("range_m", p.range_m, "0 = no return");
+                e.field("quality", p.quality);
+                e.field("offset_us", p.offset_us);
+              });
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::CameraDetections>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("frame_index", m.frame_index);
+  io.field("image_width_px", m.image_width_px);
+  io.field("image_height_px", m.image_height_px);
+  io.elements("count", false, m.count, msg::CameraDetections::kMaxDetections, m.detections,
+              [](auto& e, auto& d) {
+                e.field("colour", d.colour);
+                e.field("shape", d.shape);
+                e.field("bearing_deg", d.bearing_deg);
+                e.field("center_x_px", d.center_x_px);
+                e.field("center_y_px", d.center_y_px);
+                e.field("width_px", d.width_px);
+                e.field("height_px", d.height_px);
+                e.field("area_px", d.area_px);
+                e.field("score", d.score);
+              });
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::ArduinoStatus>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("applied_pulse_us", m.applied_pulse_us);
+  io.field("led", m.led);
+  io.field("mode", m.mode);
+  io.field("estop", m.estop);
+  io.field("rc_present", m.rc_present);
+  io.field("failsafe", m.failsafe);
+  io.field("start_switch", m.start_switch);
+  io.field("supply_v", m.supply_v);
+  io.field("last_sequence_seen", m.last_sequence_seen);
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::OperatorInput>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("start_count", m.start_count);
+  io.field("hold_count", m.hold_count);
+  io.field("hold", m.hold);
+  io.field("target_colour", m.target_colour);
+  io.field("target_shape", m.target_shape);
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::DeviceHealth>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("device", m.device);
+  io.field("state", m.state);
+  io.field("bytes_received", m.bytes_received);
+  io.field("frames_ok", m.frames_ok);
+  io.field("checksum_errors", m.checksum_errors);
+  io.field("framing_errors", m.framing_errors);
+  io.field("dropped_frames", m.dropped_frames);
+  io.field("reopen_count", m.reopen_count);
+  io.field("last_frame_ns", m.last_frame_ns);
+  io.field("rate_hz", m.rate_hz);
+  if constexpr (std::is_same_v<Io, ReadIo>) {
+    io.text("detail", [&m](std::string_view s) { m.set_detail(s); });
+  } else {
+    io.text("detail", m.detail_text(), m.detail.size() - 1);
+  }
+}
+
+template <class Io, class M>
+requires std::same_as<std::remove_const_t<M>, msg::ActuatorCommand>
+void fields(Io& io, M& m) {
+  io.field("stamp_ns", m.stamp_ns);
+  io.field("pulse_us", m.pulse_us);
+  io.field("led", m.led);
+  io.field("active", m.active);
+}
+
+template <class M>
+void write_fields(ByteWriter& w, const M& m, std::uint8_t version) {
+  WriteIo io{w, version};
+  fields(io, m);
+}
+
+template <class M>
+bool read_fields(ByteReader& r, M& m, std::uint8_t version) {
+  ReadIo io{r, version};
+  fields(io, m);
+  return io.ok && !r.underrun();
+}
+
+template <class M>
+std::string describe_fields(std::uint8_t version) {
+  DescribeIo io{{}, version};
+  const auto m = std::make_unique<const M>();  // a scan is 64 KiB: not on the stack
+  fields(io, *m);
+  return io.out;
+}
+
+// The version of each message embedded in a /tick message of version `tick_version`.
+template <class T>
+std::uint8_t embedded_version(std::uint8_t tick_version) {
+  if constexpr (std::is_same_v<T, msg::GnssFix>) return tick_version >= 2 ? 2 : 1;
+  return 1;
 }
 
 template <class T>
 void put_sample(ByteWriter& w, const core::Sample<T>& s) {
   w.u64(s.sequence);
   w.i64(s.stamp_ns);
-  put(w, s.value);
+  write_fields(w, s.value, layout_version<T>());
 }
 template <class T>
-bool get_sample(ByteReader& r, core::Sample<T>& s) {
+bool get_sample(ByteReader& r, core::Sample<T>& s, std::uint8_t tick_version) {
   s.sequence = r.u64();
   s.stamp_ns = r.i64();
-  return get(r, s.value);
+  return read_fields(r, s.value, embedded_version<T>(tick_version));
+}
+
+bool known_version(std::uint8_t version, std::uint8_t current) {
+  return version >= 1 && version <= current;
 }
 
 }  // namespace
 
 void put(ByteWriter& w, const msg::GnssFix& m) {
-  w.i64(m.stamp_ns);
-  put_enum(w, m.source);
-  put_enum(w, m.fix_type);
-  w.boolean(m.fix_ok);
-  w.boolean(m.diff_soln);
-  put_enum(w, m.rtk);
-  w.f64(m.lat_deg);
-  w.f64(m.lon_deg);
-  w.f64(m.height_msl_m);
-  w.f64(m.h_acc_m);
-  w.f64(m.v_acc_m);
-  w.f64(m.hdop);
-  w.u8(m.satellites);
-  w.boolean(m.velocity_valid);
-  w.f64(m.vel_north_mps);
-  w.f64(m.vel_east_mps);
-  w.f64(m.vel_down_mps);
-  w.f64(m.ground_speed_mps);
-  w.f64(m.course_deg);
-  w.i64(m.utc_ns);
-  w.u32(m.itow_ms);
+  write_fields(w, m, layout_version<msg::GnssFix>());
 }
-
-bool get(ByteReader& r, msg::GnssFix& m) {
-  m.stamp_ns = r.i64();
-  m.source = get_enum<msg::GnssSource>(r);
-  m.fix_type = get_enum<msg::FixType>(r);
-  m.fix_ok = r.boolean();
-  m.diff_soln = r.boolean();
-  m.rtk = get_enum<msg::RtkSolution>(r);
-  m.lat_deg = r.f64();
-  m.lon_deg = r.f64();
-  m.height_msl_m = r.f64();
-  m.h_acc_m = r.f64();
-  m.v_acc_m = r.f64();
-  m.hdop = r.f64();
-  m.satellites = r.u8();
-  m.velocity_valid = r.boolean();
-  m.vel_north_mps = r.f64();
-  m.vel_east_mps = r.f64();
-  m.vel_down_mps = r.f64();
-  m.ground_speed_mps = r.f64();
-  m.course_deg = r.f64();
-  m.utc_ns = r.i64();
-  m.itow_ms = r.u32();
-  return !r.underrun();
+bool get(ByteReader& r, msg::GnssFix& m, std::uint8_t version) {
+  return read_fields(r, m, version);
 }
-
 void put(ByteWriter& w, const msg::ImuSample& m) {
-  w.i64(m.stamp_ns);
-  w.f64(m.roll_deg);
-  w.f64(m.pitch_deg);
-  w.f64(m.yaw_magnetic_deg);
-  w.f64(m.heading_deg);
-  for (double v : m.accel_g) w.f64(v);
-  for (double v : m.gyro_dps) w.f64(v);
-  for (double v : m.mag_ut) w.f64(v);
-  w.f64(m.temperature_c);
-  w.boolean(m.has_inertial);
-  w.u32(m.sequence);
+  write_fields(w, m, layout_version<msg::ImuSample>());
 }
-
-bool get(ByteReader& r, msg::ImuSample& m) {
-  m.stamp_ns = r.i64();
-  m.roll_deg = r.f64();
-  m.pitch_deg = r.f64();
-  m.yaw_magnetic_deg = r.f64();
-  m.heading_deg = r.f64();
-  for (double& v : m.accel_g) v = r.f64();
-  for (double& v : m.gyro_dps) v = r.f64();
-  for (double& v : m.mag_ut) v = r.f64();
-  m.temperature_c = r.f64();
-  m.has_inertial = r.boolean();
-  m.sequence = r.u32();
-  return !r.underrun();
+bool get(ByteReader& r, msg::ImuSample& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::LidarScan& m) {
+  write_fields(w, m, layout_version<msg::LidarScan>());
+}
+bool get(ByteReader& r, msg::LidarScan& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::CameraDetections& m) {
+  write_fields(w, m, layout_version<msg::CameraDetections>());
+}
+bool get(ByteReader& r, msg::CameraDetections& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::ArduinoStatus& m) {
+  write_fields(w, m, layout_version<msg::ArduinoStatus>());
+}
+bool get(ByteReader& r, msg::ArduinoStatus& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::OperatorInput& m) {
+  write_fields(w, m, layout_version<msg::OperatorInput>());
+}
+bool get(ByteReader& r, msg::OperatorInput& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::DeviceHealth& m) {
+  write_fields(w, m, layout_version<msg::DeviceHealth>());
+}
+bool get(ByteReader& r, msg::DeviceHealth& m, std::uint8_t version) {
+  return read_fields(r, m, version);
+}
+void put(ByteWriter& w, const msg::ActuatorCommand& m) {
+  write_fields(w, m, layout_version<msg::ActuatorCommand>());
+}
+bool get(ByteReader& r, msg::ActuatorCommand& m, std::uint8_t version) {
+  return read_fields(r, m, version);
 }
 
 void put_lidar_header(ByteWriter& w, const msg::LidarScan& m) {
-  w.i64(m.stamp_ns);
-  w.i64(m.duration_ns);
-  w.f32(m.max_range_m);
-  w.f32(m.min_range_m);
-  w.u32(m.revolution);
-  w.u32(m.point_count);
+  WriteIo io{w, layout_version<msg::LidarScan>()};
+  lidar_header_fields(io, m);
 }
 
 bool get_lidar_header(ByteReader& r, msg::LidarScan& m) {
-  m.stamp_ns = r.i64();
-  m.duration_ns = r.i64();
-  m.max_range_m = r.f32();
-  m.min_range_m = r.f32();
-  m.revolution = r.u32();
-  m.point_count = r.u32();
+  ReadIo io{r, layout_version<msg::LidarScan>()};
+  lidar_header_fields(io, m);
   return !r.underrun() && m.point_count <= msg::LidarScan::kMaxPoints;
-}
-
-void put(ByteWriter& w, const msg::LidarScan& m) {
-  put_lidar_header(w, m);
-  const std::uint32_t n = m.point_count < msg::LidarScan::kMaxPoints
-                              ? m.point_count
-                              : static_cast<std::uint32_t>(msg::LidarScan::kMaxPoints);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto& p = m.points[i];
-    w.f32(p.bearing_deg);
-    w.f32(p.range_m);
-    w.u8(p.quality);
-    w.i32(p.offset_us);
-  }
-}
-
-bool get(ByteReader& r, msg::LidarScan& m) {
-  if (!get_lidar_header(r, m)) return false;
-  for (std::uint32_t i = 0; i < m.point_count; ++i) {
-    auto& p = m.points[i];
-    p.bearing_deg = r.f32();
-    p.range_m = r.f32();
-    p.quality = r.u8();
-    p.offset_us = r.i32();
-  }
-  return !r.underrun();
-}
-
-void put(ByteWriter& w, const msg::CameraDetections& m) {
-  w.i64(m.stamp_ns);
-  w.u32(m.frame_index);
-  w.u16(m.image_width_px);
-  w.u16(m.image_height_px);
-  const std::uint32_t n = m.count < msg::CameraDetections::kMaxDetections
-                              ? m.count
-                              : static_cast<std::uint32_t>(msg::CameraDetections::kMaxDetections);
-  w.u32(n);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto& d = m.detections[i];
-    put_enum(w, d.colour);
-    put_enum(w, d.shape);
-    w.f32(d.bearing_deg);
-    w.f32(d.center_x_px);
-    w.f32(d.center_y_px);
-    w.f32(d.width_px);
-    w.f32(d.height_px);
-    w.f32(d.area_px);
-    w.f32(d.score);
-  }
-}
-
-bool get(ByteReader& r, msg::CameraDetections& m) {
-  m.stamp_ns = r.i64();
-  m.frame_index = r.u32();
-  m.image_width_px = r.u16();
-  m.image_height_px = r.u16();
-  m.count = r.u32();
-  if (m.count > msg::CameraDetections::kMaxDetections) return false;
-  for (std::uint32_t i = 0; i < m.count; ++i) {
-    auto& d = m.detections[i];
-    d.colour = get_enum<msg::Colour>(r);
-    d.shape = get_enum<msg::Shape>(r);
-    d.bearing_deg = r.f32();
-    d.center_x_px = r.f32();
-    d.center_y_px = r.f32();
-    d.width_px = r.f32();
-    d.height_px = r.f32();
-    d.area_px = r.f32();
-    d.score = r.f32();
-  }
-  return !r.underrun();
-}
-
-void put(ByteWriter& w, const msg::ArduinoStatus& m) {
-  w.i64(m.stamp_ns);
-  for (auto v : m.applied_pulse_us) w.u16(v);
-  put_enum(w, m.led);
-  put_enum(w, m.mode);
-  w.boolean(m.estop);
-  w.boolean(m.rc_present);
-  w.boolean(m.failsafe);
-  w.boolean(m.start_switch);
-  w.f64(m.supply_v);
-  w.u16(m.last_sequence_seen);
-}
-
-bool get(ByteReader& r, msg::ArduinoStatus& m) {
-  m.stamp_ns = r.i64();
-  for (auto& v : m.applied_pulse_us) v = r.u16();
-  m.led = get_enum<msg::LedColour>(r);
-  m.mode = get_enum<msg::ControlMode>(r);
-  m.estop = r.boolean();
-  m.rc_present = r.boolean();
-  m.failsafe = r.boolean();
-  m.start_switch = r.boolean();
-  m.supply_v = r.f64();
-  m.last_sequence_seen = r.u16();
-  return !r.underrun();
-}
-
-void put(ByteWriter& w, const msg::OperatorInput& m) {
-  w.i64(m.stamp_ns);
-  w.u32(m.start_count);
-  w.u32(m.hold_count);
-  w.boolean(m.hold);
-  put_enum(w, m.target_colour);
-  put_enum(w, m.target_shape);
-}
-
-bool get(ByteReader& r, msg::OperatorInput& m) {
-  m.stamp_ns = r.i64();
-  m.start_count = r.u32();
-  m.hold_count = r.u32();
-  m.hold = r.boolean();
-  m.target_colour = get_enum<msg::Colour>(r);
-  m.target_shape = get_enum<msg::Shape>(r);
-  return !r.underrun();
-}
-
-void put(ByteWriter& w, const msg::DeviceHealth& m) {
-  w.i64(m.stamp_ns);
-  put_enum(w, m.device);
-  put_enum(w, m.state);
-  w.u64(m.bytes_received);
-  w.u64(m.frames_ok);
-  w.u64(m.checksum_errors);
-  w.u64(m.framing_errors);
-  w.u64(m.dropped_frames);
-  w.u32(m.reopen_count);
-  w.i64(m.last_frame_ns);
-  w.f64(m.rate_hz);
-  w.str16(m.detail_text(), m.detail.size() - 1);
-}
-
-bool get(ByteReader& r, msg::DeviceHealth& m) {
-  m.stamp_ns = r.i64();
-  m.device = get_enum<msg::DeviceId>(r);
-  m.state = get_enum<msg::DeviceState>(r);
-  m.bytes_received = r.u64();
-  m.frames_ok = r.u64();
-  m.checksum_errors = r.u64();
-  m.framing_errors = r.u64();
-  m.dropped_frames = r.u64();
-  m.reopen_count = r.u32();
-  m.last_frame_ns = r.i64();
-  m.rate_hz = r.f64();
-  m.set_detail(r.str16());
-  return !r.underrun();
-}
-
-void put(ByteWriter& w, const msg::ActuatorCommand& m) {
-  w.i64(m.stamp_ns);
-  for (auto v : m.pulse_us) w.u16(v);
-  put_enum(w, m.led);
-  w.boolean(m.active);
-}
-
-bool get(ByteReader& r, msg::ActuatorCommand& m) {
-  m.stamp_ns = r.i64();
-  for (auto& v : m.pulse_us) v = r.u16();
-  m.led = get_enum<msg::LedColour>(r);
-  m.active = r.boolean();
-  return !r.underrun();
 }
 
 std::size_t encode_raw(std::span<std::uint8_t> out, const RawRecord& raw) {
   ByteWriter w(out);
-  w.u8(kLayoutVersion);
-  put_enum(w, raw.device);
-  put_enum(w, raw.direction);
+  w.u8(kRawLayoutVersion);
+  write_value(w, raw.device);
+  write_value(w, raw.direction);
   w.u8(0);
   w.i64(raw.stamp_ns);
   w.u32(static_cast<std::uint32_t>(raw.bytes.size()));
@@ -302,7 +466,7 @@ std::size_t encode_raw(std::span<std::uint8_t> out, const RawRecord& raw) {
 
 bool decode_raw(std::span<const std::uint8_t> in, RawRecord& raw) {
   ByteReader r(in);
-  if (r.u8() != kLayoutVersion) return false;
+  if (!known_version(r.u8(), kRawLayoutVersion)) return false;
   const std::uint8_t device = r.u8();
   const std::uint8_t direction = r.u8();
   r.u8();
@@ -319,7 +483,7 @@ std::size_t encode_tick(std::span<std::uint8_t> out, std::uint64_t tick_index, c
                         const core::Snapshot& snapshot, const msg::ActuatorCommand& command,
                         std::string_view state_path) {
   ByteWriter w(out);
-  w.u8(kLayoutVersion);
+  w.u8(kTickLayoutVersion);
   w.u64(tick_index);
   w.i64(now_ns);
   put(w, command);
@@ -340,22 +504,24 @@ std::size_t encode_tick(std::span<std::uint8_t> out, std::uint64_t tick_index, c
 
 bool decode_tick(std::span<const std::uint8_t> in, TickRecordData& out) {
   ByteReader r(in);
-  if (r.u8() != kLayoutVersion) return false;
+  const std::uint8_t version = r.u8();
+  if (!known_version(version, kTickLayoutVersion)) return false;
   out.tick_index = r.u64();
   out.now_ns = r.i64();
-  if (!get(r, out.command)) return false;
+  if (!get(r, out.command, embedded_version<msg::ActuatorCommand>(version))) return false;
   out.state_path = std::string(r.str16());
   out.snapshot.lidar.sequence = r.u64();
   out.snapshot.lidar.stamp_ns = r.i64();
   if (!get_lidar_header(r, out.snapshot.lidar.value)) return false;
-  if (!get_sample(r, out.snapshot.imu) || !get_sample(r, out.snapshot.gnss) ||
-      !get_sample(r, out.snapshot.camera) || !get_sample(r, out.snapshot.arduino) ||
-      !get_sample(r, out.snapshot.operator_input)) {
+  if (!get_sample(r, out.snapshot.imu, version) || !get_sample(r, out.snapshot.gnss, version) ||
+      !get_sample(r, out.snapshot.camera, version) ||
+      !get_sample(r, out.snapshot.arduino, version) ||
+      !get_sample(r, out.snapshot.operator_input, version)) {
     return false;
   }
   if (r.u8() != out.snapshot.health.size()) return false;
   for (auto& h : out.snapshot.health) {
-    if (!get_sample(r, h)) return false;
+    if (!get_sample(r, h, version)) return false;
   }
   return !r.underrun() && r.remaining() == 0;
 }
@@ -364,7 +530,7 @@ std::size_t encode_parameters(std::span<std::uint8_t> out, std::uint64_t tick_in
                               core::TimeNs stamp_ns, std::span<const NamedValue> values) {
   if (values.size() > 0xFFFF) return 0;
   ByteWriter w(out);
-  w.u8(kLayoutVersion);
+  w.u8(kParametersLayoutVersion);
   w.u64(tick_index);
   w.i64(stamp_ns);
   w.u16(static_cast<std::uint16_t>(values.size()));
@@ -379,7 +545,7 @@ std::size_t encode_parameters(std::span<std::uint8_t> out, std::uint64_t tick_in
 
 bool decode_parameters(std::span<const std::uint8_t> in, ParameterSetRecord& out) {
   ByteReader r(in);
-  if (r.u8() != kLayoutVersion) return false;
+  if (!known_version(r.u8(), kParametersLayoutVersion)) return false;
   out.tick_index = r.u64();
   out.stamp_ns = r.i64();
   const std::uint16_t n = r.u16();
@@ -421,8 +587,42 @@ std::string_view layout_schema_name(Layout layout) {
   return "coxswain.Unknown";
 }
 
-// Kept in step with FORMAT.md by layouts_test (each text appears there verbatim).
-std::string_view layout_schema_text(Layout layout) {
+namespace {
+
+template <class T>
+std::string sample_text(std::string_view name) {
+  const std::uint8_t v = layout_version<T>();
+  return "coxswain." + std::string(name) + " v" + std::to_string(v) +
+         " (little-endian, packed)\nu8 version=" + std::to_string(v) + "; u64 store_sequence; " +
+         describe_fields<T>(v) + "\n";
+}
+
+std::string lidar_text() {
+  const std::uint8_t v = layout_version<msg::LidarScan>();
+  DescribeIo header{{}, v};
+  const auto scan = std::make_unique<msg::LidarScan>();
+  lidar_header_fields(header, *scan);
+  std::string all = describe_fields<msg::LidarScan>(v);
+  return "coxswain.LidarScan v" + std::to_string(v) +
+         " (little-endian, packed)\nu8 version=" + std::to_string(v) +
+         "; u64 store_sequence; LidarHeader = (" + header.out + "); then " +
+         all.substr(header.out.size() + 2) + "\n";
+}
+
+std::string tick_text() {
+  const std::string v = std::to_string(kTickLayoutVersion);
+  return "coxswain.Tick v" + v + " (little-endian, packed)\nu8 version=" + v +
+         "; u64 tick_index; i64 now_ns; ActuatorCommand command = (" +
+         describe_fields<msg::ActuatorCommand>(1) +
+         "); u16 n + char[n] state_path; u64 lidar_sequence + i64 lidar_stamp_ns + LidarHeader; "
+         "Sample<ImuSample> imu; Sample<GnssFix> gnss; Sample<CameraDetections> camera; "
+         "Sample<ArduinoStatus> arduino; Sample<OperatorInput> operator_input; "
+         "u8 n_health + Sample<DeviceHealth>[n_health] (index = device id)\n"
+         "Sample<T> = u64 sequence (0 = never written); i64 stamp_ns; the fields of T's channel "
+         "layout after store_sequence (a tick of version 1 embeds GnssFix v1)\n";
+}
+
+std::string build_schema_text(Layout layout) {
   switch (layout) {
     case Layout::kRaw:
       return "coxswain.RawBytes v1 (little-endian, packed)\n"
@@ -430,62 +630,43 @@ std::string_view layout_schema_text(Layout layout) {
              "u8 direction (0 from device,1 to device); u8 reserved=0; i64 stamp_ns (steady); "
              "u32 count; u8[count] bytes\n";
     case Layout::kTick:
-      return "coxswain.Tick v1 (little-endian, packed)\n"
-             "u8 version=1; u64 tick_index; i64 now_ns; ActuatorCommand command = (i64 stamp_ns; "
-             "u16[2] pulse_us; u8 led; u8 active); "
-             "u16 n + char[n] state_path; "
-             "u64 lidar_sequence + i64 lidar_stamp_ns + LidarHeader; "
-             "Sample<ImuSample> imu; Sample<GnssFix> gnss; Sample<CameraDetections> camera; "
-             "Sample<ArduinoStatus> arduino; Sample<OperatorInput> operator_input; "
-             "u8 n_health + Sample<DeviceHealth>[n_health] (index = device id)\n"
-             "Sample<T> = u64 sequence (0 = never written); i64 stamp_ns; the fields of T's "
-             "channel "
-             "layout after store_sequence\n";
+      return tick_text();
     case Layout::kGnss:
-      return "coxswain.GnssFix v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; u8 source; u8 fix_type; "
-             "u8 fix_ok; u8 diff_soln; u8 rtk; f64 lat_deg; f64 lon_deg; f64 height_msl_m; "
-             "f64 h_acc_m; f64 v_acc_m; f64 hdop; u8 satellites; u8 velocity_valid; "
-             "f64 vel_north_mps; f64 vel_east_mps; f64 vel_down_mps; f64 ground_speed_mps; "
-             "f64 course_deg; i64 utc_ns; u32 itow_ms\n";
+      return sample_text<msg::GnssFix>("GnssFix");
     case Layout::kImu:
-      return "coxswain.ImuSample v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; f64 roll_deg; f64 pitch_deg; "
-             "f64 yaw_magnetic_deg; f64 heading_deg; f64[3] accel_g; f64[3] gyro_dps; "
-             "f64[3] mag_ut; f64 temperature_c; u8 has_inertial; u32 sequence\n";
+      return sample_text<msg::ImuSample>("ImuSample");
     case Layout::kLidar:
-      return "coxswain.LidarScan v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; LidarHeader = i64 stamp_ns; i64 duration_ns; "
-             "f32 max_range_m; f32 min_range_m; u32 revolution; u32 point_count; then "
-             "point_count x (f32 bearing_deg body frame; f32 range_m (0 = no return); "
-             "u8 quality; i32 offset_us)\n";
+      return lidar_text();
     case Layout::kCamera:
-      return "coxswain.CameraDetections v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; u32 frame_index; "
-             "u16 image_width_px; u16 image_height_px; u32 count; count x (u8 colour; u8 shape; "
-             "f32 bearing_deg; f32 center_x_px; f32 center_y_px; f32 width_px; f32 height_px; "
-             "f32 area_px; f32 score)\n";
+      return sample_text<msg::CameraDetections>("CameraDetections");
     case Layout::kArduino:
-      return "coxswain.ArduinoStatus v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; u16[2] applied_pulse_us; u8 led; "
-             "u8 mode; u8 estop; u8 rc_present; u8 failsafe; u8 start_switch; f64 supply_v; "
-             "u16 last_sequence_seen\n";
+      return sample_text<msg::ArduinoStatus>("ArduinoStatus");
     case Layout::kOperator:
-      return "coxswain.OperatorInput v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; u32 start_count; u32 hold_count; "
-             "u8 hold; u8 target_colour; u8 target_shape\n";
+      return sample_text<msg::OperatorInput>("OperatorInput");
     case Layout::kHealth:
-      return "coxswain.DeviceHealth v1 (little-endian, packed)\n"
-             "u8 version=1; u64 store_sequence; i64 stamp_ns; u8 device; u8 state; "
-             "u64 bytes_received; u64 frames_ok; u64 checksum_errors; u64 framing_errors; "
-             "u64 dropped_frames; u32 reopen_count; i64 last_frame_ns; f64 rate_hz; "
-             "u16 n + char[n] detail\n";
+      return sample_text<msg::DeviceHealth>("DeviceHealth");
     case Layout::kParameters:
       return "coxswain.ParameterSet v1 (little-endian, packed)\n"
              "u8 version=1; u64 tick_index (the first tick stepped with the set); i64 stamp_ns; "
              "u16 n; n x (u8 name_length; char[name_length] name; f64 value)\n";
   }
   return "";
+}
+
+}  // namespace
+
+// Built once from the field lists; kept in step with FORMAT.md by layouts_test (each text
+// appears there verbatim).
+std::string_view layout_schema_text(Layout layout) {
+  static const std::array<std::string, kLayoutCount> texts = [] {
+    std::array<std::string, kLayoutCount> t;
+    for (std::size_t i = 0; i < kLayoutCount; ++i) {
+      t[i] = build_schema_text(static_cast<Layout>(i));
+    }
+    return t;
+  }();
+  const auto i = static_cast<std::size_t>(layout);
+  return i < texts.size() ? std::string_view(texts[i]) : std::string_view();
 }
 
 }  // namespace coxswain::record

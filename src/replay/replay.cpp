@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/host/step_record.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
@@ -162,6 +163,13 @@ std::optional<config::Configuration> configuration_from_yaml(const std::string& 
   config::Configuration c{config::load_boat_config(boat.path().string(), errors),
                           config::load_devices_config(devices.path().string(), errors),
                           config::load_mission_config(mission.path().string(), errors)};
+  // Recordings made before the vision file was recorded have none: the built-in defaults.
+  if (root["vision"]) {
+    TempFile vision("vision");
+    if (!write_section(root, "vision", vision.path(), errors)) return std::nullopt;
+    if (auto v = config::load_vision_file(vision.path().string(), errors)) c.vision.params = *v;
+    c.vision.file = root["vision"]["file"] ? root["vision"]["file"].as<std::string>() : "";
+  }
   if (!errors.empty()) return std::nullopt;
   return c;
 }
@@ -187,6 +195,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
   report.ok = true;
   mission::MissionCore core(config.boat, config.mission,
                             config::magnetometer_of(config.devices.imu));
+  (void)core.set_vision(config.vision.params);  // loaded and validated with the rest
   // Large (scan arrays): allocated once, reused for every tick.
   auto tick = std::make_unique<record::TickRecordData>();
   auto scan = std::make_unique<msg::LidarScan>();

@@ -11,14 +11,22 @@
 #include "coxswain/config/devices_config.hpp"
 #include "coxswain/config/mission_config.hpp"
 #include "coxswain/guidance/mag_calibration.hpp"
+#include "coxswain/perception/vision_params.hpp"
 
 namespace coxswain::config {
+
+/// The camera detectors' colour model and thresholds: the vision file (config/vision.yaml).
+struct VisionConfig {
+  std::string file;  // where they came from; empty for the built-in defaults
+  perception::VisionParams params = perception::VisionParams::defaults();
+};
 
 /// Everything a run is configured with.
 struct Configuration {
   BoatConfig boat;
   DevicesConfig devices;
   MissionConfig mission;
+  VisionConfig vision = {};
 };
 
 /// Each reads and validates one file; problems go to `errors` (the returned value then holds

@@ -4,6 +4,7 @@
 // interfaces. Plain data, no file format and no engine: each driver includes this alone.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace coxswain::config {
 
@@ -90,6 +91,10 @@ struct LiveConfig {
   std::uint16_t http_port = 8765;  // 0 = any free port (written to <run directory>/live.port)
   double viz_rate_hz = 10.0;       // Foxglove messageData per channel at most this often
   std::string token;               // status page buttons; "" = buttons refused
+  // Host names besides IP literals and "localhost" that name this server (DNS-rebinding guard).
+  std::vector<std::string> allowed_hosts;
+  // Browser origins besides the server's own that may use it ("scheme://host[:port]").
+  std::vector<std::string> allowed_origins = {"https://app.foxglove.dev"};
 };
 
 struct DevicesConfig {

@@ -31,7 +31,7 @@ struct Bounds {
 /// Reads one YAML map. Call `finish()` after reading every key to report unknown ones.
 class MapReader {
  public:
-  MapReader(YAML::Node node, std::string file, std::string path, ConfigErrors& errors);
+  MapReader(const YAML::Node& node, std::string file, std::string path, ConfigErrors& errors);
 
   [[nodiscard]] bool valid() const { return valid_; }
   [[nodiscard]] bool has(std::string_view key) const;
@@ -82,9 +82,17 @@ class MapReader {
 /// shipped file and a 20,000-obstacle course, small enough that a wrong file is refused at once.
 inline constexpr std::uintmax_t kMaxConfigFileBytes = 8U << 20U;
 
+/// The most values (maps, lists and scalars, every alias counted each time it is used) a config
+/// document may expand to: a 20,000-obstacle course has about 300,000. Aliases of aliases can
+/// make a 4 KiB file expand to billions, which every reader would walk.
+inline constexpr std::size_t kMaxConfigNodes = 2'000'000;
+/// The deepest nesting of maps and lists in a config file (the shipped ones nest 5 deep).
+inline constexpr int kMaxConfigDepth = 64;
+
 /// Loads a YAML file holding exactly one document; records the issue and returns nullopt on a
-/// syntax error, an unreadable, empty or over-long (`max_bytes`) file, a second document, or a
-/// duplicate key anywhere (each duplicate with its line).
+/// syntax error, an unreadable, empty or over-long (`max_bytes`) file, a second document, a
+/// duplicate key anywhere (each duplicate with its line), nesting deeper than kMaxConfigDepth or
+/// more than kMaxConfigNodes values once aliases are expanded.
 std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& errors,
                                          std::uintmax_t max_bytes = kMaxConfigFileBytes);
 

@@ -124,7 +124,7 @@ class LatestSlot {
   // Room for whole words so the word copy never runs past the envelope.
   struct Padded {
     Envelope env;
-    unsigned char tail[kWords * 8 - sizeof(Envelope) + 1];
+    unsigned char tail[kWords * 8 - sizeof(Envelope) + 1]{};
   };
 
   alignas(64) std::atomic<std::uint64_t> seq_{0};

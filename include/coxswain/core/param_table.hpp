@@ -11,10 +11,11 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <vector>
 
 namespace coxswain::core {
 
-enum class ParamType : std::uint8_t { kReal, kInteger, kBool, kEnum, kText };
+enum class ParamType : std::uint8_t { kReal, kInteger, kBool, kEnum, kText, kTextList };
 
 [[nodiscard]] constexpr std::string_view param_type_name(ParamType t) {
   switch (t) {
@@ -28,6 +29,8 @@ enum class ParamType : std::uint8_t { kReal, kInteger, kBool, kEnum, kText };
       return "enum";
     case ParamType::kText:
       return "string";
+    case ParamType::kTextList:
+      return "list of strings";
   }
   return "unknown";
 }
@@ -42,7 +45,7 @@ struct ParamChoice {
 /// One parameter of struct S. `key` is relative to the struct's section; a dot nests a map in
 /// the file ("score.goal_weight" is `score: {goal_weight: ...}`). Numbers, booleans and enums
 /// travel as doubles through get/set (enums as their value, booleans as 0/1); text through
-/// get_text/set_text.
+/// get_text/set_text, lists of text through get_list/set_list.
 template <class S>
 struct ParamSpec {
   std::string_view key;
@@ -58,10 +61,13 @@ struct ParamSpec {
   std::span<const ParamChoice> choices{};  // kEnum
   std::string (*get_text)(const S&) = nullptr;
   void (*set_text)(S&, std::string_view) = nullptr;
+  std::vector<std::string> (*get_list)(const S&) = nullptr;
+  void (*set_list)(S&, const std::vector<std::string>&) = nullptr;
 
   /// The value a default-constructed struct holds: what ships unless a file says otherwise.
   [[nodiscard]] double default_value() const { return get(S{}); }
   [[nodiscard]] std::string default_text() const { return get_text(S{}); }
+  [[nodiscard]] std::vector<std::string> default_list() const { return get_list(S{}); }
   /// The name of an enum value, or "" when it names none.
   [[nodiscard]] std::string_view choice_name(double value) const {
     for (const ParamChoice& c : choices) {
@@ -175,6 +181,20 @@ constexpr ParamSpec<S> text_param(std::string_view key, std::string_view doc) {
   p.set = [](S&, double) {};
   p.get_text = [](const S& s) { return std::string(detail::member_at<Path...>(s)); };
   p.set_text = [](S& s, std::string_view v) { detail::member_at<Path...>(s) = std::string(v); };
+  return p;
+}
+
+/// A list of text (host names, origins) at the member path of S. Never live.
+template <class S, auto... Path>
+constexpr ParamSpec<S> text_list_param(std::string_view key, std::string_view doc) {
+  ParamSpec<S> p{};
+  p.key = key;
+  p.type = ParamType::kTextList;
+  p.doc = doc;
+  p.get = [](const S&) { return 0.0; };
+  p.set = [](S&, double) {};
+  p.get_list = [](const S& s) { return detail::member_at<Path...>(s); };
+  p.set_list = [](S& s, const std::vector<std::string>& v) { detail::member_at<Path...>(s) = v; };
   return p;
 }
 

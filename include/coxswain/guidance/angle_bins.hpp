@@ -3,6 +3,7 @@
 // The one angle-bin representation every avoidance strategy works on (docs/missions.md).
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "coxswain/perception/obstacles.hpp"
@@ -16,7 +17,7 @@ struct AngleFan {
   double bin_width_deg = 1.0;  // (max - min) / width must be a whole number <= kMaxBins
 
   /// Empty when valid, else what is wrong.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Fixed-capacity bins over a fan of body-frame headings. Bin i covers the headings

@@ -52,13 +52,13 @@ struct AvoidanceParams {
   // and beats risk_bin there and on the 2026 course 1.
   Strategy strategy = Strategy::kScore;
   AngleFan fan{};                  // -90..+90 deg in 1 deg bins
-  double detection_range_m = 8.0;  // obstacles farther than this are ignored
-  double half_beam_m = 0.45;       // half the hull width
-  double clearance_m = 0.35;       // extra room kept on each side of the hull
+  double detection_range_m = 5.0;  // obstacles farther than this are ignored
+  double half_beam_m = 0.4;        // half the hull width (a mission takes it from boat.yaml)
+  double clearance_m = 0.4;        // extra room kept on each side of the hull
 
   // Speed: the factor falls linearly from 1 at slow_down_range_m to min_speed_factor.
   double slow_down_range_m = 3.0;
-  double min_speed_factor = 0.35;
+  double min_speed_factor = 1.0;
 
   // All blocked: slow, shrink the range stepwise, then stop or back off.
   double shrink_factor = 0.6;          // range multiplier per step, in (0, 1)
@@ -70,8 +70,8 @@ struct AvoidanceParams {
   // Hysteresis: keep the previous side unless the other is better by this much (degrees of
   // turn, or the score equivalent), and never switch again within hold_time_s of a switch
   // unless the kept side has no safe bin left. The side is forgotten after hold_time_s clear.
-  double hysteresis_deg = 8.0;
-  double hold_time_s = 1.5;
+  double hysteresis_deg = 15.0;
+  double hold_time_s = 3.0;
 
   // Score (2022 plan A). Per bin: goal_weight * |turn from goal| / 180 and, for bins an obstacle
   // within range covers, distance_weight * (1 - d / range) + angle_weight * (1 - |bearing| / 180).
@@ -103,16 +103,16 @@ struct AvoidanceParams {
   // the bow, over the obstacles within detection_range_m plus the longest arc. Off by default: the
   // documents' algorithms as they are; the obstacle course turns it on
   // (config/missions/obstacle_course.yaml).
-  bool sweep_enabled = false;
-  double hull_length_m = 1.2;        // bow tip to stern
-  double bow_ahead_m = 0.1;          // bow tip ahead of the body origin (the sensors)
+  bool sweep_enabled = true;
+  double hull_length_m = 1.2;        // bow tip to stern (a mission: boat.yaml's hull)
+  double bow_ahead_m = 0.1;          // bow tip ahead of the body origin (boat.yaml's overhang)
   double pivot_ahead_m = 0.4;        // turning pivot ahead of the body origin
   double sweep_turn_radius_m = 2.6;  // radius of the pivot's path in a hard turn
-  double sweep_clearance_m = 0.15;   // room kept between the swept hull and obstacles
+  double sweep_clearance_m = 0.2;    // room kept between the swept hull and obstacles
   double sweep_step_deg = 3.0;       // heading step along the predicted arc
 
   /// Empty when valid, else the first problem found.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
   /// Distance below which the risk-bin risk exceeds the threshold.
   [[nodiscard]] double risk_range_m() const;
 };

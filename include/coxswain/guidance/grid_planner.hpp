@@ -29,7 +29,7 @@ struct GridParams {
 
   static constexpr std::uint32_t kMaxCells = 1U << 20;
   /// Empty when valid, else the first problem found.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 struct GridCell {

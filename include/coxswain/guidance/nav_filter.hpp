@@ -129,6 +129,8 @@ class NavFilter {
                    double gate, bool force);
   void init_position(core::NavPoint fix, double sigma_m, const msg::GnssFix& q);
   void update_cog(const msg::GnssFix& q);
+  /// Per-axis sigma of the fix's velocity: its sAcc when it has one, never below the floor.
+  [[nodiscard]] double velocity_sigma_mps(const msg::GnssFix& q) const;
 
   NavFilterParams p_;
   Vector x_;

@@ -28,7 +28,7 @@ struct NavFilterParams {
   double gnss_float_sigma_floor_m = 0.1;   // RTK float
   double gnss_fixed_sigma_floor_m = 0.02;  // RTK fixed
   double gnss_unknown_sigma_m = 2.5;       // no hAcc (NMEA without GST): per axis
-  double gnss_velocity_sigma_mps = 0.1;    // per axis (the fix carries no sAcc)
+  double gnss_velocity_sigma_mps = 0.1;    // per axis: without sAcc, and the floor under it
   // Course over ground as a heading measurement. Off by default: a steady current crabs the
   // boat the same way for a whole leg, an error no white-noise model averages out (it cost
   // docking approaches their slip in the simulator); worth it with a magnetometer that cannot

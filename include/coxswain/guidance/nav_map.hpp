@@ -38,7 +38,7 @@ struct NavMapParams {
   double min_range_m = 0.15;       // nearer returns are the hull or spray
 
   static constexpr std::size_t kMaxCells = 1U << 20;
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// The global planner's rules. Distances in metres.
@@ -56,7 +56,7 @@ struct MapPlannerParams {
   double look_s = 3.0;
   double look_turn_deg = 90.0;
   double look_thrust_frac = 0.3;
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Gates judged by what the lidar sees: a waypoint of an obstacle course with two buoys about
@@ -73,7 +73,7 @@ struct GateParams {
   double max_buoy_length_m = 0.8;  // longer obstacle segments are not buoys
   double track_gate_m = 1.0;       // a new sighting this near the tracked gate updates it
   double approach_m = 2.5;         // after a miss: back to this far before the gate
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// The mission file's `planning:` section.
@@ -83,7 +83,7 @@ struct PlanningConfig {
   GateParams gates;
   std::vector<core::GeoPoint> boundary;            // field corners, in order (>= 3 or none)
   std::vector<std::vector<core::GeoPoint>> no_go;  // polygons, each >= 3 corners
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// True when `p` lies inside the polygon (even-odd rule).

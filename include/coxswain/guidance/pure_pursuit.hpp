@@ -5,6 +5,7 @@
 // being the angle between the heading and that point. Short look-ahead oscillates, long cuts
 // corners.
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -16,7 +17,7 @@ struct PurePursuitParams {
   double lookahead_m = 2.5;      // l_d
   double arrive_radius_m = 1.0;  // within this of the last point the path is done
   /// Empty when valid, else the first problem found.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 struct PursuitCommand {

@@ -19,7 +19,8 @@
 
 namespace coxswain::live {
 
-enum class CommandKind : std::uint8_t { kStart, kHold, kResume, kTarget, kStatus };
+/// kParams asks for the parameters in force (the answer `coxswain ctl save-params` writes out).
+enum class CommandKind : std::uint8_t { kStart, kHold, kResume, kTarget, kStatus, kParams };
 
 struct ControlCommand {
   CommandKind kind = CommandKind::kStatus;
@@ -31,7 +32,8 @@ struct ControlCommand {
 [[nodiscard]] std::optional<msg::Colour> parse_colour(std::string_view name);
 [[nodiscard]] std::optional<msg::Shape> parse_shape(std::string_view name);
 
-/// One line: `start`, `hold`, `resume`, `target <colour> <shape>` or `status` (case-sensitive,
+/// One line: `start`, `hold`, `resume`, `target <colour> <shape>`, `status` or `params`
+/// (case-sensitive,
 /// blanks around words ignored). Empty with `error` set when the line is not a command.
 [[nodiscard]] std::optional<ControlCommand> parse_command(std::string_view line,
                                                           std::string& error);

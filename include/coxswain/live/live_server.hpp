@@ -56,6 +56,10 @@ struct LiveOptions {
   /// Published as the first OperatorInput when not kUnknown (the daemon's --target).
   msg::Colour initial_target_colour = msg::Colour::kUnknown;
   msg::Shape initial_target_shape = msg::Shape::kUnknown;
+  /// Named in the `params` answer, so `coxswain ctl save-params` can write the mission file back
+  /// with the live values (absolute; empty: not known).
+  std::string mission_file;
+  std::string vision_file;
 };
 
 /// What the tick hands over each tick. Trivially copyable.

@@ -212,6 +212,10 @@ class MissionCore {
   [[nodiscard]] std::string apply_parameters(const TunableParameters& params);
   /// The parameters in force.
   [[nodiscard]] TunableParameters parameters() const;
+  /// Replaces the camera detectors' parameters kept with the others (the vision file, at start):
+  /// live sets then change its named values and keep the rest. Empty when taken, else why not
+  /// (VisionParams::validate(); nothing changes then).
+  [[nodiscard]] std::string set_vision(const perception::VisionParams& vision);
 
  private:
   struct Impl;

@@ -34,6 +34,7 @@ struct TunableSpec {
   double min = 0.0;
   double max = 0.0;
   bool integer = false;
+  bool boolean = false;              // 0 or 1, written true/false in a file
   std::string unit;                  // "" when dimensionless
   std::string doc;                   // one line
   std::vector<std::string> choices;  // an enumeration's names, by value (0, 1, ...)

@@ -49,6 +49,7 @@ struct GnssFix {
   double vel_down_mps = 0.0;
   double ground_speed_mps = 0.0;
   double course_deg = 0.0;  // heading of motion, true, (-180, 180]
+  double s_acc_mps = -1.0;  // speed accuracy estimate (UBX sAcc); < 0 = unknown
   /// UTC of the epoch as Unix nanoseconds; 0 when the receiver has no valid time.
   std::int64_t utc_ns = 0;
   std::uint32_t itow_ms = 0;  // GPS time of week of the epoch (UBX), groups one epoch

@@ -7,6 +7,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -91,7 +92,7 @@ struct LidarClusterParams {
   [[nodiscard]] static LidarClusterParams reference_tricat2022();
 
   /// Empty when usable, else what is wrong.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Counters of the last process() call, for health reporting and tests.

@@ -5,6 +5,7 @@
 // meaning when the frame rate changes. Pure: the caller supplies stamps; no clock reads.
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "coxswain/core/time.hpp"
@@ -18,7 +19,7 @@ struct MarkerVoteParams {
   core::TimeNs min_span_ns = core::kNsPerSec;    // window must hold this much history (oldest
                                                  // vote in window at least this old) to decide
 
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 struct VoteTally {

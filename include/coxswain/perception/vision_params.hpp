@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "coxswain/msg/camera_detections.hpp"
@@ -39,7 +40,7 @@ struct ColourRange {
 struct ShapeParams {
   double approx_epsilon_fraction = 0.02;  // approxPolyDP epsilon as a fraction of the perimeter
   double convex_min_solidity = 0.90;      // area / hull area for triangle, rectangle, circle
-  double cross_max_solidity = 0.82;  // plus, arms 1/3 wide: 5/9 = 0.56; closing lifts small ones
+  double cross_max_solidity = 0.86;  // plus, arms 1/3 wide: 5/9 = 0.56; closing lifts small ones
   double cross_min_solidity = 0.35;
   double cross_min_defect_depth = 0.12;  // deep concavity, fraction of sqrt(area); plus = 0.32
   double triangle_max_extent = 0.62;     // area / min-area rectangle: any triangle = 0.5
@@ -100,7 +101,7 @@ struct VisionParams {
   [[nodiscard]] int find_colour(msg::Colour colour) const;
 
   /// Empty when valid, else the first problem found.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Bearing of image column `x_px` (0 = left edge of the image, width = right edge) in the camera

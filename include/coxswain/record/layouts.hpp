@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// The recorder's compact binary message layouts, version 1 (documented field by field in
-// src/record/FORMAT.md, and written into each MCAP Schema record as text). All little-endian,
-// packed, no padding. Each channel message starts with a u8 layout version.
+// The recorder's compact binary message layouts (documented field by field in
+// src/record/FORMAT.md, and written into each MCAP Schema record as text, both generated from
+// the one field list of each message in layouts.cpp). All little-endian, packed, no padding.
+// Each channel message starts with its u8 layout version; readers take every version from 1 to
+// the current one (a field added later reads as its default from an older message).
 //   /raw/<device>       version, device u8, direction u8, reserved u8, stamp_ns i64, count u32,
 //                       bytes
 //   /gnss /imu /lidar /camera /arduino /operator /health
@@ -18,6 +20,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -28,7 +31,17 @@
 
 namespace coxswain::record {
 
-inline constexpr std::uint8_t kLayoutVersion = 1;
+/// The layout version each message is written with (see FORMAT.md for what each added).
+template <class T>
+constexpr std::uint8_t layout_version() {
+  if constexpr (std::is_same_v<T, msg::GnssFix>) return 2;  // v2: s_acc_mps
+  return 1;
+}
+inline constexpr std::uint8_t kTickLayoutVersion = 2;  // v2: embeds GnssFix v2
+inline constexpr std::uint8_t kRawLayoutVersion = 1;
+inline constexpr std::uint8_t kParametersLayoutVersion = 1;
+/// The recording's layout generation, in its metadata: the /tick layout's version.
+inline constexpr std::uint8_t kLayoutVersion = kTickLayoutVersion;
 /// MCAP message encoding of every binary channel.
 inline constexpr std::string_view kBinaryMessageEncoding = "coxswain-binary";
 /// MCAP schema encoding of the binary channels: the schema data is the layout as text.
@@ -40,8 +53,8 @@ inline constexpr std::size_t kMaxTickBytes = 4096;
 /// Upper bound of an encoded /lidar message with LidarScan::kMaxPoints points.
 inline constexpr std::size_t kMaxLidarBytes = 64 + msg::LidarScan::kMaxPoints * 13;
 
-// Field writers/readers of each message (no version, no sequence). Readers return false on a
-// short or malformed buffer.
+// Field writers/readers of each message (no version, no sequence). Writers write the current
+// layout version; readers read `version` and return false on a short or malformed buffer.
 void put(ByteWriter& w, const msg::GnssFix& m);
 void put(ByteWriter& w, const msg::ImuSample& m);
 void put(ByteWriter& w, const msg::LidarScan& m);  // header and points
@@ -50,14 +63,19 @@ void put(ByteWriter& w, const msg::ArduinoStatus& m);
 void put(ByteWriter& w, const msg::OperatorInput& m);
 void put(ByteWriter& w, const msg::DeviceHealth& m);
 void put(ByteWriter& w, const msg::ActuatorCommand& m);
-bool get(ByteReader& r, msg::GnssFix& m);
-bool get(ByteReader& r, msg::ImuSample& m);
-bool get(ByteReader& r, msg::LidarScan& m);
-bool get(ByteReader& r, msg::CameraDetections& m);
-bool get(ByteReader& r, msg::ArduinoStatus& m);
-bool get(ByteReader& r, msg::OperatorInput& m);
-bool get(ByteReader& r, msg::DeviceHealth& m);
-bool get(ByteReader& r, msg::ActuatorCommand& m);
+bool get(ByteReader& r, msg::GnssFix& m, std::uint8_t version = layout_version<msg::GnssFix>());
+bool get(ByteReader& r, msg::ImuSample& m, std::uint8_t version = layout_version<msg::ImuSample>());
+bool get(ByteReader& r, msg::LidarScan& m, std::uint8_t version = layout_version<msg::LidarScan>());
+bool get(ByteReader& r, msg::CameraDetections& m,
+         std::uint8_t version = layout_version<msg::CameraDetections>());
+bool get(ByteReader& r, msg::ArduinoStatus& m,
+         std::uint8_t version = layout_version<msg::ArduinoStatus>());
+bool get(ByteReader& r, msg::OperatorInput& m,
+         std::uint8_t version = layout_version<msg::OperatorInput>());
+bool get(ByteReader& r, msg::DeviceHealth& m,
+         std::uint8_t version = layout_version<msg::DeviceHealth>());
+bool get(ByteReader& r, msg::ActuatorCommand& m,
+         std::uint8_t version = layout_version<msg::ActuatorCommand>());
 void put_lidar_header(ByteWriter& w, const msg::LidarScan& m);
 bool get_lidar_header(ByteReader& r, msg::LidarScan& m);
 
@@ -76,7 +94,7 @@ bool decode_raw(std::span<const std::uint8_t> in, RawRecord& raw);
 template <class T>
 std::size_t encode_sample(std::span<std::uint8_t> out, std::uint64_t sequence, const T& m) {
   ByteWriter w(out);
-  w.u8(kLayoutVersion);
+  w.u8(layout_version<T>());
   w.u64(sequence);
   put(w, m);
   return w.overflow() ? 0 : w.size();
@@ -84,9 +102,10 @@ std::size_t encode_sample(std::span<std::uint8_t> out, std::uint64_t sequence, c
 template <class T>
 bool decode_sample(std::span<const std::uint8_t> in, std::uint64_t& sequence, T& m) {
   ByteReader r(in);
-  if (r.u8() != kLayoutVersion) return false;
+  const std::uint8_t version = r.u8();
+  if (version < 1 || version > layout_version<T>()) return false;
   sequence = r.u64();
-  return get(r, m) && !r.underrun();
+  return get(r, m, version) && !r.underrun();
 }
 
 /// One /tick message decoded. `snapshot.lidar.value` holds the scan header only (no points).
@@ -136,6 +155,7 @@ enum class Layout : std::uint8_t {
   kHealth,
   kParameters,
 };
+inline constexpr std::size_t kLayoutCount = static_cast<std::size_t>(Layout::kParameters) + 1;
 [[nodiscard]] std::string_view layout_schema_name(Layout layout);
 /// The layout as text (also in FORMAT.md): the schema data of its MCAP Schema record.
 [[nodiscard]] std::string_view layout_schema_text(Layout layout);

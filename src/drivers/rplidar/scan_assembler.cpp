@@ -8,7 +8,7 @@
 
 namespace coxswain::drivers::rplidar {
 
-std::string ScanAssemblerParams::validate() const {
+std::optional<std::string> ScanAssemblerParams::validate() const {
   if (!std::isfinite(mount.yaw_deg)) return "lidar mount yaw_deg must be finite";
   if (!std::isfinite(seam_body_deg)) return "seam_body_deg must be finite";
   if (!(min_range_m >= 0.0F)) return "min_range_m must be >= 0";

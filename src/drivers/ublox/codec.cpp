@@ -385,6 +385,7 @@ bool Decoder::emit_legacy() {
                                           std::numbers::pi)
                          : 0.0;
   }
+  fix.s_acc_mps = e.s_acc_mps;
   fix.velocity_valid =
       (e.have_velned || e.have_ecef_vel) && fix.fix_ok && e.fix_type >= 2 && e.fix_type <= 4;
   if (e.have_week && e.week > 0) {
@@ -484,6 +485,7 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
     fix.vel_down_mps = get_i4(p, 56) * 1e-3;
     fix.ground_speed_mps = get_i4(p, 60) * 1e-3;
     fix.course_deg = core::wrap_deg(get_i4(p, 64) * 1e-5);
+    fix.s_acc_mps = get_u4(p, 68) * 1e-3;
     fix.hdop = -1.0;  // NAV-PVT carries pDOP only
     fix.velocity_valid = fix.fix_ok && fix_type >= 2 && fix_type <= 4;
     msg_.kind = MessageKind::kFix;
@@ -543,6 +545,7 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
           e.ecef_vel_mps[i] = get_i4(p, 28 + 4 * i) * 1e-2;
         }
         e.p_acc_m = get_u4(p, 24) * 1e-2;
+        if (!e.have_velned) e.s_acc_mps = get_u4(p, 40) * 1e-2;
         e.have_ecef = true;
         e.have_ecef_vel = true;
         e.satellites = p[47];
@@ -555,6 +558,7 @@ bool Decoder::interpret_ubx(std::span<const std::uint8_t> frame) {
         for (std::size_t i = 0; i < 3; ++i) e.vel_ned_mps[i] = get_i4(p, 4 + 4 * i) * 1e-2;
         e.ground_speed_mps = get_u4(p, 20) * 1e-2;
         e.course_deg = core::wrap_deg(get_i4(p, 24) * 1e-5);
+        e.s_acc_mps = get_u4(p, 28) * 1e-2;
         e.have_velned = true;
         return emit_legacy() || used_ubx(id);
       }

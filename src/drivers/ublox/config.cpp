@@ -128,7 +128,7 @@ UbxFrame m8_set_dyn_model(std::uint8_t model) {
   return make_ubx_frame(kCfgNav5, p);
 }
 
-std::optional<std::string_view> ConfigParams::validate(Generation gen) const {
+std::optional<std::string> ConfigParams::validate(Generation gen) const {
   const double max_hz = gen == Generation::kM8 ? 10.0 : 20.0;
   if (!std::isfinite(rate_hz) || rate_hz < 0.1 || rate_hz > max_hz) {
     return gen == Generation::kM8 ? "rate_hz must be in [0.1, 10] for an M8 receiver"

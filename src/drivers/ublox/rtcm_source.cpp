@@ -12,7 +12,9 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/posix/stream_descriptor.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <span>
 #include <utility>
 
@@ -43,6 +45,19 @@ struct RtcmSource::Impl {
   std::atomic<std::uint64_t> bytes_in{0}, frames_ok{0}, frames_queued{0}, frames_dropped{0},
       crc_errors{0}, framing_errors{0}, connects{0}, failures{0};
   std::atomic<bool> finished{false};
+  std::string last_problem;  // reader thread only
+
+  void problem(const std::string& what) {
+    if (what == last_problem) return;  // once per distinct reason, not at every retry
+    last_problem = what;
+    if (options.on_event) options.on_event(true, what);
+  }
+  void recovered(const std::string& what) {
+    if (last_problem.empty()) return;
+    last_problem.clear();
+    if (options.on_event) options.on_event(false, what);
+  }
+  [[nodiscard]] std::string address() const { return host + ":" + port; }
 
   /// Frames `bytes`; `wait_for_room`: block (politely) while the queue is full instead of
   /// dropping (a file has no deadline).
@@ -79,13 +94,18 @@ struct RtcmSource::Impl {
   // ---- TCP ----
   void tcp_connect() {
     resolver.async_resolve(host, port, [this](const error_code& ec, const auto& results) {
-      if (ec) return retry_later(&Impl::tcp_connect);
+      if (ec) {
+        problem("cannot resolve " + address() + ": " + ec.message() + "; retrying");
+        return retry_later(&Impl::tcp_connect);
+      }
       asio::async_connect(socket, results, [this](const error_code& ec2, const auto&) {
         if (ec2) {
           error_code ignored;
           socket.close(ignored);
+          problem("cannot connect to " + address() + ": " + ec2.message() + "; retrying");
           return retry_later(&Impl::tcp_connect);
         }
+        recovered("connected to " + address());
         connects.fetch_add(1, std::memory_order_relaxed);
         backoff_ns = 0;
         tcp_read();
@@ -97,6 +117,7 @@ struct RtcmSource::Impl {
       if (ec) {  // includes EOF: the server went away
         error_code ignored;
         socket.close(ignored);
+        problem("the connection to " + address() + " ended: " + ec.message() + "; reconnecting");
         return retry_later(&Impl::tcp_connect);
       }
       feed({buf.data(), n}, false);
@@ -109,7 +130,11 @@ struct RtcmSource::Impl {
     // Non-blocking so that opening never waits for a writer; a missing writer reads as EOF and
     // is retried after the backoff.
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) return retry_later(&Impl::pipe_open);
+    if (fd < 0) {
+      problem("cannot open " + path + ": " + std::strerror(errno) + "; retrying");
+      return retry_later(&Impl::pipe_open);
+    }
+    recovered("opened " + path);
     pipe.assign(fd);
     connects.fetch_add(1, std::memory_order_relaxed);
     pipe_read();
@@ -131,6 +156,7 @@ struct RtcmSource::Impl {
   void read_file() {
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
+      problem("cannot open " + path + ": " + std::strerror(errno));
       failures.fetch_add(1, std::memory_order_relaxed);
       finished.store(true, std::memory_order_release);
       return;

@@ -26,7 +26,7 @@ bool clip(double a, double b, double& t_lo, double& t_hi) {
 
 }  // namespace
 
-std::string AngleFan::validate() const {
+std::optional<std::string> AngleFan::validate() const {
   if (!std::isfinite(min_deg) || !std::isfinite(max_deg) || !std::isfinite(bin_width_deg)) {
     return "fan: angles must be finite";
   }
@@ -42,7 +42,7 @@ std::string AngleFan::validate() const {
 }
 
 bool AngleBins::configure(const AngleFan& fan) {
-  if (!fan.validate().empty()) return false;
+  if (fan.validate()) return false;
   fan_ = fan;
   const double span = fan.max_deg - fan.min_deg;
   count_ = static_cast<std::size_t>(std::lround(span / fan.bin_width_deg));

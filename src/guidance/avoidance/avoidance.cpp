@@ -202,8 +202,8 @@ const char* to_string(AvoidanceStatus s) {
   return "unknown";
 }
 
-std::string AvoidanceParams::validate() const {
-  if (std::string e = fan.validate(); !e.empty()) return e;
+std::optional<std::string> AvoidanceParams::validate() const {
+  if (auto e = fan.validate()) return e;
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   const auto non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
   const auto unit = [](double v) { return std::isfinite(v) && v >= 0.0 && v <= 1.0; };
@@ -254,9 +254,8 @@ double AvoidanceParams::risk_range_m() const {
 }
 
 std::optional<Avoidance> Avoidance::create(const AvoidanceParams& params, std::string* error) {
-  std::string e = params.validate();
-  if (!e.empty()) {
-    if (error != nullptr) *error = std::move(e);
+  if (auto e = params.validate()) {
+    if (error != nullptr) *error = std::move(*e);
     return std::nullopt;
   }
   return Avoidance(params);

@@ -23,7 +23,7 @@ float octile(std::uint32_t r0, std::uint32_t c0, std::uint32_t r1, std::uint32_t
 
 }  // namespace
 
-std::string GridParams::validate() const {
+std::optional<std::string> GridParams::validate() const {
   if (rows == 0 || cols == 0) return "grid: rows and cols must be > 0";
   if (static_cast<std::uint64_t>(rows) * cols > kMaxCells) return "grid: too many cells";
   if (!std::isfinite(resolution_m) || !(resolution_m > 0.0)) return "grid: resolution_m > 0";
@@ -40,9 +40,8 @@ std::string GridParams::validate() const {
 }
 
 std::optional<OccupancyGrid> OccupancyGrid::create(const GridParams& params, std::string* error) {
-  std::string e = params.validate();
-  if (!e.empty()) {
-    if (error != nullptr) *error = std::move(e);
+  if (auto e = params.validate()) {
+    if (error != nullptr) *error = std::move(*e);
     return std::nullopt;
   }
   return OccupancyGrid(params);

@@ -17,7 +17,7 @@ bool finite_nonneg(double v) { return std::isfinite(v) && v >= 0.0; }
 
 }  // namespace
 
-std::string NavMapParams::validate() const {
+std::optional<std::string> NavMapParams::validate() const {
   if (!finite_pos(resolution_m) || resolution_m < 0.05) return "map: resolution_m >= 0.05";
   if (!finite_nonneg(margin_m)) return "map: margin_m >= 0";
   if (!finite_pos(size_north_m) || !finite_pos(size_east_m)) return "map: size must be > 0";
@@ -36,7 +36,7 @@ std::string NavMapParams::validate() const {
   return {};
 }
 
-std::string MapPlannerParams::validate() const {
+std::optional<std::string> MapPlannerParams::validate() const {
   if (!finite_pos(replan_period_s)) return "planner: replan_period_s > 0";
   if (!finite_nonneg(clearance_m) || clearance_m > 3.0) return "planner: clearance_m in [0, 3]";
   if (!finite_pos(lookahead_m)) return "planner: lookahead_m > 0";
@@ -57,7 +57,7 @@ std::string MapPlannerParams::validate() const {
   return {};
 }
 
-std::string GateParams::validate() const {
+std::optional<std::string> GateParams::validate() const {
   if (!finite_pos(width_m)) return "gates: width_m > 0";
   if (!finite_nonneg(width_tolerance_m) || width_tolerance_m >= width_m) {
     return "gates: 0 <= width_tolerance_m < width_m";
@@ -72,10 +72,10 @@ std::string GateParams::validate() const {
   return {};
 }
 
-std::string PlanningConfig::validate() const {
-  if (std::string e = map.validate(); !e.empty()) return e;
-  if (std::string e = planner.validate(); !e.empty()) return e;
-  if (std::string e = gates.validate(); !e.empty()) return e;
+std::optional<std::string> PlanningConfig::validate() const {
+  if (auto e = map.validate()) return e;
+  if (auto e = planner.validate()) return e;
+  if (auto e = gates.validate()) return e;
   if (!boundary.empty() && boundary.size() < 3) return "boundary: needs at least 3 corners";
   for (const auto& p : no_go) {
     if (p.size() < 3) return "no_go: each polygon needs at least 3 corners";
@@ -102,7 +102,7 @@ NavMap::NavMap(const NavMapParams& params, std::span<const core::NavPoint> bound
                std::span<const std::vector<core::NavPoint>> no_go,
                std::span<const core::NavPoint> extent)
     : params_(params) {
-  if (std::string e = params.validate(); !e.empty()) throw std::invalid_argument(e);
+  if (auto e = params.validate()) throw std::invalid_argument(*e);
   if (!boundary.empty() && boundary.size() < 3) {
     throw std::invalid_argument("map: the boundary needs at least 3 corners");
   }
@@ -301,7 +301,7 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       known_state_(static_cast<std::size_t>(rows_) * cols_, CellState::kFree),
       state_(known_state_.size(), CellState::kFree),
       astar_(rows_, cols_) {
-  if (std::string e = params.validate(); !e.empty()) throw std::invalid_argument(e);
+  if (auto e = params.validate()) throw std::invalid_argument(*e);
   if (!std::isfinite(half_beam_m) || half_beam_m < 0.0) {
     throw std::invalid_argument("planner: half beam must be >= 0");
   }

@@ -27,7 +27,7 @@ Projection project(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
 
 }  // namespace
 
-std::string PurePursuitParams::validate() const {
+std::optional<std::string> PurePursuitParams::validate() const {
   if (!std::isfinite(lookahead_m) || !(lookahead_m > 0.0)) return "lookahead_m must be > 0";
   if (!std::isfinite(arrive_radius_m) || arrive_radius_m < 0.0) return "arrive_radius_m >= 0";
   return {};

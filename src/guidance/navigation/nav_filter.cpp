@@ -345,13 +345,22 @@ void NavFilter::init_position(core::NavPoint fix, double sigma_m, const msg::Gns
   if (q.velocity_valid) {
     x_(kVn) = q.vel_north_mps;
     x_(kVe) = q.vel_east_mps;
-    P_(kVn, kVn) = P_(kVe, kVe) = p_.gnss_velocity_sigma_mps * p_.gnss_velocity_sigma_mps;
+    const double sv = velocity_sigma_mps(q);
+    P_(kVn, kVn) = P_(kVe, kVe) = sv * sv;
   } else {
     x_(kVn) = x_(kVe) = 0.0;
     P_(kVn, kVn) = P_(kVe, kVe) = p_.initial_velocity_sigma_mps * p_.initial_velocity_sigma_mps;
   }
   has_position_ = true;
   rejected_run_ = 0;
+}
+
+double NavFilter::velocity_sigma_mps(const msg::GnssFix& q) const {
+  // sAcc is the receiver's speed accuracy; per axis it is taken as hAcc is, over sqrt(2).
+  if (q.s_acc_mps > 0.0 && std::isfinite(q.s_acc_mps)) {
+    return std::max(q.s_acc_mps / std::sqrt(2.0), p_.gnss_velocity_sigma_mps);
+  }
+  return p_.gnss_velocity_sigma_mps;
 }
 
 NavUpdate NavFilter::add_fix(core::TimeNs stamp_ns, core::NavPoint fix,
@@ -414,7 +423,7 @@ NavUpdate NavFilter::add_fix(core::TimeNs stamp_ns, core::NavPoint fix,
     Hv(0, kVn) = 1.0;
     Hv(1, kVe) = 1.0;
     const Eigen::Vector2d yv(quality.vel_north_mps - x_(kVn), quality.vel_east_mps - x_(kVe));
-    const double sv = p_.gnss_velocity_sigma_mps;
+    const double sv = velocity_sigma_mps(quality);
     (void)update<2>(yv, Hv, Eigen::Matrix2d::Identity() * sv * sv, p_.gate_chi2_2dof, false);
     update_cog(quality);
   }
@@ -452,7 +461,7 @@ void NavFilter::update_cog(const msg::GnssFix& q) {
   H(0, kPsi) = 1.0;
   Eigen::Matrix<double, 1, 1> y;
   y(0) = wrap_rad(cog - x_(kPsi));
-  const double sv = p_.gnss_velocity_sigma_mps / speed;
+  const double sv = velocity_sigma_mps(q) / speed;
   // A water current crabs the boat: its course differs from its heading by up to
   // atan(current / speed), most at low speed (a docking approach).
   const double crab =

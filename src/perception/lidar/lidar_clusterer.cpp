@@ -62,7 +62,7 @@ LidarClusterParams LidarClusterParams::reference_tricat2022() {
   return p;
 }
 
-std::string LidarClusterParams::validate() const {
+std::optional<std::string> LidarClusterParams::validate() const {
   if (!finite_nonneg(group_gap_m) || !finite_nonneg(group_gap_per_m)) {
     return "group_gap_m and group_gap_per_m must be finite and >= 0";
   }
@@ -99,8 +99,8 @@ std::string LidarClusterParams::validate() const {
 }
 
 LidarClusterer::LidarClusterer(const LidarClusterParams& params) : params_(params) {
-  if (const std::string err = params_.validate(); !err.empty()) {
-    throw std::invalid_argument("LidarClusterParams: " + err);
+  if (auto err = params_.validate()) {
+    throw std::invalid_argument("LidarClusterParams: " + *err);
   }
   profile_bins_ =
       static_cast<std::uint32_t>(std::lround(kFullCircleDeg / params_.profile_bin_width_deg));

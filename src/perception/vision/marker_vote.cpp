@@ -3,7 +3,7 @@
 
 namespace coxswain::perception {
 
-std::string MarkerVoteParams::validate() const {
+std::optional<std::string> MarkerVoteParams::validate() const {
   if (window_ns <= 0) return "window_ns must be positive";
   if (!(min_ratio > 0.0 && min_ratio <= 1.0)) return "min_ratio must be in (0, 1]";
   if (min_frames == 0) return "min_frames must be at least 1";

@@ -44,7 +44,7 @@ namespace {
 bool kernel_ok(int k) { return k == 0 || (k >= 1 && k <= 31); }
 }  // namespace
 
-std::string VisionParams::validate() const {
+std::optional<std::string> VisionParams::validate() const {
   if (colour_count > kMaxColours) return "colour_count exceeds kMaxColours";
   for (std::size_t i = 0; i < colour_count; ++i) {
     const HsvRange& r = colours[i].hsv;

@@ -18,30 +18,16 @@
 #include "coxswain/drivers/serial/serial_transport.hpp"
 #include "sim/devices/arduino/emulator.hpp"
 #include "sim/pty/emulator_host.hpp"
+#include "support/temp_dir.hpp"
+#include "support/wait_for.hpp"
 
 namespace coxswain::drivers::arduino {
 namespace {
 
+using coxswain::test::TempDir;
+
 using namespace std::chrono_literals;
 namespace emu = sim::devices::arduino;
-
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ =
-        std::filesystem::temp_directory_path() /
-        ("coxswain_arduino_e2e_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const {
-    return path_ / name;
-  }
-
- private:
-  std::filesystem::path path_;
-};
 
 struct Rig {
   Rig()

@@ -20,24 +20,16 @@
 #include <string>
 #include <vector>
 
+#include "support/run_command.hpp"
 #include "support/testdata.hpp"
 
 namespace {
 
+using coxswain::test::slurp;
+
 namespace fs = std::filesystem;
 
-struct Ran {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Ran = coxswain::test::CommandResult;
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> out;
@@ -68,10 +60,8 @@ class Cli : public ::testing::Test {
   Ran run(const char* exe, const std::string& args) {
     const std::string cmd = "cd '" + coxswain::testing::source_dir().string() +
                             "' && env -u COXSWAIN_LOG_DIR COXSWAIN_CONTROL_SOCKET='" +
-                            (dir_ / "no.sock").string() + "' '" + exe + "' " + args + " > '" +
-                            (dir_ / "out").string() + "' 2> '" + (dir_ / "err").string() + "'";
-    const int raw = std::system(cmd.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
+                            (dir_ / "no.sock").string() + "' '" + exe + "' " + args;
+    return coxswain::test::run_to_files(cmd, dir_);
   }
   Ran coxswain(const std::string& args) { return run(COXSWAIN_EXE, args); }
   Ran sim(const std::string& args) { return run(COXSWAIN_SIM_EXE, args); }

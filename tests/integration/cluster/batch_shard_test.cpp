@@ -18,6 +18,7 @@
 
 #include "coxswain/config/config.hpp"
 #include "sim/batch/batch.hpp"
+#include "support/run_command.hpp"
 
 namespace coxswain {
 namespace {
@@ -32,16 +33,9 @@ struct Ran {
 // Runs a shell command in the source folder (the shipped config paths are relative to it);
 // stdout is captured, stderr goes to the test log.
 Ran run(const std::string& args) {
-  Ran r;
-  const std::string cmd =
-      std::string("cd '") + COXSWAIN_SOURCE_DIR + "' && '" + COXSWAIN_SIM_BINARY + "' " + args;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (p == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.out += buf.data();
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  const coxswain::test::CommandResult r = coxswain::test::run_shell(
+      std::string("cd '") + COXSWAIN_SOURCE_DIR + "' && '" + COXSWAIN_SIM_BINARY + "' " + args);
+  return {r.status, r.out};
 }
 
 std::vector<std::string> lines_of(const std::string& text) {

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "coxswain/config/config.hpp"
 #include "coxswain/core/clock.hpp"
@@ -36,7 +37,8 @@ bool contains(const std::string& s, std::string_view what) {
 class DevicesRun {
  public:
   explicit DevicesRun(const std::string& name, const std::string& course = "kaboat2026.yaml",
-                      const std::string& mission = "kaboat2026.yaml") {
+                      const std::string& mission = "kaboat2026.yaml",
+                      std::vector<FaultSpec> faults = {}) {
     run_dir_ =
         fs::temp_directory_path() / ("coxswain-devices-" + name + "-" + std::to_string(::getpid()));
     fs::remove_all(run_dir_);
@@ -46,13 +48,14 @@ class DevicesRun {
     o.run_dir = run_dir_;
     o.time_limit_s = 120.0;  // a backstop: each test stops the run itself
     o.record = false;        // spare the shared CPU; the recorder has its own tests
+    o.faults = std::move(faults);
     mode_ = std::make_unique<DevicesMode>(o);
     thread_ = std::thread([this] { outcome_ = mode_->run(&stop_); });
     daemon_ = mode_->wait_started(seconds(30));
   }
   ~DevicesRun() {
     stop_.store(true);
-    thread_.join();
+    if (thread_.joinable()) thread_.join();
     // A sanitizer build's daemon reports into its log: any report fails the test.
     if (daemon_ != nullptr) {
       for (const LogLine& line : daemon_->lines()) {
@@ -70,6 +73,12 @@ class DevicesRun {
   DevicesRun& operator=(const DevicesRun&) = delete;
 
   DevicesMode& mode() { return *mode_; }
+  /// Stops the run (if still running) and returns its outcome.
+  const DevicesOutcome& finish() {
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+    return outcome_;
+  }
   DaemonProcess* daemon() { return daemon_; }
   const fs::path& run_dir() const { return run_dir_; }
   /// Waits for a log line (from index `from`) containing `what`.
@@ -275,6 +284,37 @@ TEST(DaemonDevices, LidarUnplugHoldsWithinHalfASecondAndReplugResumes) {
   DevicesRun run("lidar");
   ASSERT_NE(run.daemon(), nullptr);
   unplug_holds_and_replug_resumes(run, msg::DeviceId::kLidar, "lidar stale");
+}
+
+// Faults on demand (`--fault`): a USB reset of the lidar and a silent IMU, each while the
+// mission sails to course 1's waypoint (a task that needs both). The mission holds on each, the
+// device comes back (the lidar sending its start-up again) and the mission resumes, as the run's
+// fault records say from the daemon's log.
+TEST(DaemonDevices, FaultsOnDemandHoldAndTheMissionResumesAfterEach) {
+  // The world's time runs with the wall clock from the start of the run.
+  const auto started = std::chrono::steady_clock::now();
+  DevicesRun run("faults", "kaboat2026.yaml", "kaboat2026.yaml",
+                 {parse_fault_spec("lidar:reset@13+0.5"), parse_fault_spec("imu:silence@20+2")});
+  ASSERT_NE(run.daemon(), nullptr);
+  ASSERT_TRUE(run.wait_line(0, "-> course1/to_waypoint", seconds(12)).has_value())
+      << "the mission did not start before the first fault";
+  // The second fault ends at 22 s; the resume follows within a few seconds.
+  std::this_thread::sleep_until(started + seconds(30));
+  const DevicesOutcome& o = run.finish();
+  ASSERT_EQ(o.faults.size(), 2U);
+  for (const FaultRecord& f : o.faults) {
+    SCOPED_TRACE(fault_summary_line(f));
+    ASSERT_TRUE(f.began_s.has_value());
+    ASSERT_TRUE(f.ended_s.has_value());
+    EXPECT_NEAR(*f.began_s, f.spec.at_s, 0.05);
+    EXPECT_NEAR(*f.ended_s - *f.began_s, f.spec.duration_s, 0.05);
+    EXPECT_TRUE(f.sailing_at_start) << "the mission was not sailing when the fault began";
+    ASSERT_TRUE(f.held_after_ms.has_value()) << "the mission never held";
+    EXPECT_LT(*f.held_after_ms, 1000.0);
+    ASSERT_TRUE(f.device_back_s.has_value()) << "the device never ran again";
+    ASSERT_TRUE(f.resumed_after_s.has_value()) << "the mission never resumed";
+    EXPECT_TRUE(fault_recovered(f));
+  }
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 
 #include "coxswain/replay/replay.hpp"
 #include "sim/devices_mode/devices_mode.hpp"
+#include "support/run_command.hpp"
 
 namespace coxswain::sim::devices_mode {
 namespace {
@@ -30,15 +31,10 @@ struct Ran {
   std::string output;
 };
 
+// Runs a shell command, capturing stdout and stderr.
 Ran run_command(const std::string& command) {
-  Ran r;
-  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.output += buf.data();
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  const coxswain::test::CommandResult r = coxswain::test::run_shell(command + " 2>&1");
+  return {r.status, r.out};
 }
 
 TEST(DaemonReplay, ADevicesModeRecordingReplaysBitForBit) {

@@ -226,7 +226,11 @@ await sleep(3000);  // the sweep runs each second and returns dropped clients' m
 const rss1 = rssKb();
 const log1 = fs.statSync(log).size;
 console.log(`after: rss ${rss1} kB (${((rss1 - rss0) / 1024).toFixed(1)} MB more), log +${log1 - log0} bytes`);
-check(rss1 - rss0 <= 10 * 1024, `memory back within 10 MB of the start (${rss0} -> ${rss1} kB)`);
+// A sanitized daemon keeps shadow memory and allocator caches resident after the flood, so its
+// build passes a wider bound; leaks there are LeakSanitizer's to find at exit.
+const rssSlackMb = Number(process.env.COXSWAIN_FLOOD_RSS_SLACK_MB || 10);
+check(rss1 - rss0 <= rssSlackMb * 1024,
+  `memory back within ${rssSlackMb} MB of the start (${rss0} -> ${rss1} kB)`);
 check(log1 - log0 < 64 * 1024, `the log grew by ${log1 - log0} bytes (bounded)`);
 const st = await (await fetch(base + "/api/status")).json();
 check(st.operator.hold === true, "the daemon is holding and still answers");

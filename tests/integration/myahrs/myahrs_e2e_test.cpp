@@ -17,39 +17,17 @@
 #include "coxswain/drivers/serial/serial_transport.hpp"
 #include "sim/devices/myahrs/emulator.hpp"
 #include "sim/pty/emulator_host.hpp"
+#include "support/temp_dir.hpp"
+#include "support/wait_for.hpp"
 
 namespace coxswain::drivers::myahrs {
 namespace {
 
+using coxswain::test::TempDir;
+using coxswain::test::wait_for;
+
 using namespace std::chrono_literals;
 namespace emu = sim::devices::myahrs;
-
-template <class F>
-bool wait_for(F&& condition, std::chrono::milliseconds timeout = 10s) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(2ms);
-  }
-  return true;
-}
-
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ = std::filesystem::temp_directory_path() /
-            ("coxswain_myahrs_e2e_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const {
-    return path_ / name;
-  }
-
- private:
-  std::filesystem::path path_;
-};
 
 constexpr double kHeadingDeg = -135.5;
 constexpr double kMountYawDeg = 12.0;

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Opens a coxswain recording with @mcap/core (indexed and streaming readers, CRCs validated),
 // compiles every jsonschema schema with Ajv (JSON Schema 2020-12), validates every JSON message
-// against its schema, checks every binary message's layout version, and compares the message
-// count of every channel with what the recorder said it wrote (expected.json) and with the file's
-// own Statistics record. Exit code 0 = all good.
+// against its schema, checks every binary message's layout version against its schema's, and
+// compares the message count of every channel with what the recorder said it wrote
+// (expected.json) and with the file's own Statistics record. Exit code 0 = all good.
 // Usage: node read_mcap.mjs RUN.mcap expected.json
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { loadDecompressHandlers } from "@mcap/support";
@@ -66,8 +66,13 @@ for await (const message of reader.readMessages({ validateCrcs: true })) {
     if (!validate(value)) {
       if (invalid++ < 5) fail(`${channel.topic}: ${ajv.errorsText(validate.errors)}`);
     }
-  } else if (message.data[0] !== 1) {
-    fail(`${channel.topic}: binary layout version ${message.data[0]}`);
+  } else {
+    // The version byte is the one the channel's own schema text names ("u8 version=N").
+    const schema = reader.schemasById.get(channel.schemaId);
+    const named = /u8 version=(\d+)/.exec(decoder.decode(schema.data));
+    if (!named || message.data[0] !== Number(named[1])) {
+      fail(`${channel.topic}: binary layout version ${message.data[0]}, schema says ${named?.[1]}`);
+    }
   }
 }
 

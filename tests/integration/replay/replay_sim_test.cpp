@@ -18,6 +18,7 @@
 #include "coxswain/replay/replay.hpp"
 #include "coxswain/report/report.hpp"
 #include "sim_recording.hpp"
+#include "support/run_command.hpp"
 #include "support/testdata.hpp"
 
 namespace coxswain {
@@ -32,14 +33,8 @@ struct Ran {
 
 // Runs a shell command, capturing stdout and stderr.
 Ran run(const std::string& command) {
-  Ran r;
-  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return r;
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), p) != nullptr) r.output += buf.data();
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
+  const coxswain::test::CommandResult r = coxswain::test::run_shell(command + " 2>&1");
+  return {r.status, r.out};
 }
 
 std::string quote(const fs::path& p) { return "'" + p.string() + "'"; }

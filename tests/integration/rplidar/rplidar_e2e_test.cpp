@@ -21,40 +21,17 @@
 #include "coxswain/drivers/serial/serial_transport.hpp"
 #include "sim/devices/rplidar/emulator.hpp"
 #include "sim/pty/emulator_host.hpp"
+#include "support/temp_dir.hpp"
+#include "support/wait_for.hpp"
 
 namespace coxswain::drivers::rplidar {
 namespace {
 
+using coxswain::test::TempDir;
+using coxswain::test::wait_for;
+
 using namespace std::chrono_literals;
 namespace emu = sim::devices::rplidar;
-
-template <class F>
-bool wait_for(F&& condition, std::chrono::milliseconds timeout = 15s) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(5ms);
-  }
-  return true;
-}
-
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ =
-        std::filesystem::temp_directory_path() /
-        ("coxswain_rplidar_e2e_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const {
-    return path_ / name;
-  }
-
- private:
-  std::filesystem::path path_;
-};
 
 /// Sensor-frame truth: 4 m all round, a box at 1.5 m on lidar angles 40..50.
 std::vector<float> truth_ranges() {

@@ -22,11 +22,15 @@
 #include <thread>
 #include <vector>
 
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_reader.hpp"
+#include "support/run_command.hpp"
 #include "support/testdata.hpp"
 
 namespace {
+
+using coxswain::test::slurp;
 
 namespace fs = std::filesystem;
 
@@ -59,18 +63,7 @@ fs::path only_run(const fs::path& runs) {
   return run_dir;
 }
 
-struct Result {
-  int status = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = coxswain::test::CommandResult;
 
 class CoxswainCli : public ::testing::Test {
  protected:
@@ -86,9 +79,7 @@ class CoxswainCli : public ::testing::Test {
   Result run(const std::vector<std::string>& args) {
     std::string cmd = std::string("'") + COXSWAIN_EXE + "'";
     for (const auto& a : args) cmd += " '" + a + "'";
-    cmd += " > '" + (dir_ / "out").string() + "' 2> '" + (dir_ / "err").string() + "'";
-    const int raw = std::system(cmd.c_str());
-    return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(dir_ / "out"), slurp(dir_ / "err")};
+    return coxswain::test::run_to_files(cmd, dir_);
   }
 
   fs::path write(const std::string& name, const std::string& text) {
@@ -111,7 +102,8 @@ class CoxswainCli : public ::testing::Test {
   // Starts `coxswain --devices <absent> --log-dir runs run` (stderr to dir_/err) with an optional
   // file-size limit (bytes; 0 = none) and SIGXFSZ at its default action, as a shell leaves it.
   pid_t spawn_daemon(std::uint64_t file_size_limit = 0, const fs::path& runs_dir = {},
-                     const fs::path& devices_file = {}) {
+                     const fs::path& devices_file = {},
+                     const std::vector<std::string>& extra = {}) {
     const std::string devices = (devices_file.empty() ? absent_devices() : devices_file).string();
     const std::string runs = (runs_dir.empty() ? dir_ / "runs" : runs_dir).string();
     const std::string err = (dir_ / "err").string();
@@ -124,8 +116,13 @@ class CoxswainCli : public ::testing::Test {
         const rlimit limit{file_size_limit, file_size_limit};
         ::setrlimit(RLIMIT_FSIZE, &limit);
       }
-      ::execl(COXSWAIN_EXE, COXSWAIN_EXE, "--devices", devices.c_str(), "--log-dir", runs.c_str(),
-              "run", static_cast<char*>(nullptr));
+      std::vector<std::string> args{COXSWAIN_EXE, "--devices", devices, "--log-dir", runs};
+      args.insert(args.end(), extra.begin(), extra.end());
+      args.emplace_back("run");
+      std::vector<char*> argv;
+      for (std::string& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(COXSWAIN_EXE, argv.data());
       ::_exit(127);
     }
     return pid;
@@ -343,6 +340,45 @@ TEST_F(CoxswainCli, SocketPathTooLongKeepsTheLiveView) {
 }
 
 // `coxswain decode` prints one JSON object per message and a summary line; it needs no config.
+// The daemon sails on the vision file it is given (--vision), records it, and `ctl save-params`
+// writes the colour model in force and the mission with its live values: files that load back.
+TEST_F(CoxswainCli, SaveParamsWritesVisionInForce) {
+  const fs::path runs = dir_ / "runs";
+  std::string vision = slurp(coxswain::testing::source_dir() / "config/vision.yaml");
+  const std::string blue = "{colour: blue, h_min: 95,";
+  ASSERT_NE(vision.find(blue), std::string::npos);
+  vision.replace(vision.find(blue), blue.size(), "{colour: blue, h_min: 103,");
+  const fs::path venue = write("venue-vision.yaml", vision);
+  const pid_t pid = spawn_daemon(0, {}, {}, {"--vision", venue.string()});
+  ASSERT_GT(pid, 0);
+  EXPECT_TRUE(wait_for_log("device camera: absent", std::chrono::seconds(30)));
+  EXPECT_TRUE(wait_for_log("vision: " + venue.string(), std::chrono::seconds(1)));
+
+  const fs::path saved_vision = dir_ / "saved-vision.yaml";
+  const fs::path saved_mission = dir_ / "saved-mission.yaml";
+  const Result saved = run({"--log-dir", runs.string(), "ctl", "save-params", saved_vision.string(),
+                            saved_mission.string()});
+  ASSERT_EQ(::kill(pid, SIGTERM), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_EQ(saved.status, 0) << saved.out << saved.err;
+
+  const Result check = run({"check-config", saved_vision.string(), saved_mission.string()});
+  EXPECT_EQ(check.status, 0) << check.err;
+  coxswain::config::ConfigErrors errors;
+  const auto back = coxswain::config::load_vision_file(saved_vision.string(), errors);
+  ASSERT_TRUE(back.has_value()) << errors.format();
+  const int i = back->find_colour(coxswain::msg::Colour::kBlue);
+  ASSERT_GE(i, 0);
+  EXPECT_EQ(back->colours[static_cast<std::size_t>(i)].hsv.h_min, 103);
+  // The recording holds the vision file with the rest of the configuration.
+  const RecordingSummary rec = read_recording(only_run(runs) / "run.mcap");
+  ASSERT_TRUE(rec.report.metadata.contains("config"));
+  const std::string recorded = rec.report.metadata.at("config").at("yaml");
+  EXPECT_NE(recorded.find("file: " + venue.string()), std::string::npos) << recorded;
+  EXPECT_NE(recorded.find("{colour: blue, h_min: 103,"), std::string::npos) << recorded;
+}
+
 TEST_F(CoxswainCli, DecodePrintsJsonLinesAndSummary) {
   const std::string body = "GNGGA,123519.00,3507.12345,N,12648.00000,E,1,08,1.0,5.0,M,20.0,M,,";
   unsigned x = 0;

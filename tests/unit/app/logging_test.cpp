@@ -110,6 +110,43 @@ TEST(HealthReporter, DetailsThatOnlyReMeasureHaveTheSameWords) {
   EXPECT_TRUE(HealthReporter::same_words("", ""));
 }
 
+// An absent device names where its path is set, once for the outage (not at every retry), and
+// the line devices mode parses ("device gnss: absent (") keeps its shape.
+TEST(HealthReporter, AnAbsentDeviceIsLoggedOnceWithWhereItsPathIsSet) {
+  std::ostringstream text;
+  auto logger = std::make_shared<spdlog::logger>(
+      "health_test", std::make_shared<spdlog::sinks::ostream_sink_mt>(text));
+  logger->set_pattern("%l %v");
+  const auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(logger);
+  core::LatestStore store;
+  core::Snapshot snapshot;
+  HealthReporter reporter;
+  reporter.set_origin(msg::DeviceId::kGnss, "gnss.path in devices.yaml");
+  msg::DeviceHealth h;
+  h.device = msg::DeviceId::kGnss;
+  h.state = msg::DeviceState::kAbsent;
+  for (int retry = 0; retry < 5; ++retry) {
+    h.set_detail("/dev/ttyGPS: No such file or directory (device not plugged in?)");
+    store.health_of(msg::DeviceId::kGnss).publish(h, 1000 + retry);
+    store.snapshot(snapshot);
+    (void)reporter.report_changes(snapshot);
+  }
+  h.state = msg::DeviceState::kRunning;
+  h.set_detail("nav-pvt 5 Hz");
+  store.health_of(msg::DeviceId::kGnss).publish(h, 2000);
+  store.snapshot(snapshot);
+  (void)reporter.report_changes(snapshot);
+  spdlog::set_default_logger(previous);
+  const std::string log = text.str();
+  EXPECT_NE(log.find("warning device gnss: absent (/dev/ttyGPS: No such file or directory (device "
+                     "not plugged in?)) [gnss.path in devices.yaml]"),
+            std::string::npos)
+      << log;
+  EXPECT_EQ(log.find("gnss.path"), log.rfind("gnss.path")) << "logged more than once:\n" << log;
+  EXPECT_NE(log.find("info device gnss: running (nav-pvt 5 Hz)\n"), std::string::npos) << log;
+}
+
 class Logging : public ::testing::Test {
  protected:
   void SetUp() override {

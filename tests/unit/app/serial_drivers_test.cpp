@@ -22,44 +22,20 @@
 #include "coxswain/drivers/myahrs/codec.hpp"
 #include "integration/serial/line_protocol.hpp"
 #include "sim/pty/emulator_host.hpp"
+#include "support/run_command.hpp"
+#include "support/temp_dir.hpp"
+#include "support/wait_for.hpp"
 
 namespace coxswain::app {
 namespace {
 
+using coxswain::test::slurp;
+
+using coxswain::test::TempDir;
+using coxswain::test::wait_for;
+
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
-
-template <class F>
-bool wait_for(F&& condition, std::chrono::milliseconds timeout = 10s) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(2ms);
-  }
-  return true;
-}
-
-class TempDir {
- public:
-  TempDir() {
-    static int counter = 0;
-    path_ = fs::temp_directory_path() / ("coxswain_app_drivers_" + std::to_string(::getpid()) +
-                                         "_" + std::to_string(counter++));
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  [[nodiscard]] const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::span<const std::uint8_t> as_bytes(const std::string& s) {
   return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};

@@ -108,7 +108,7 @@ TEST(VisionEval, CalibrationFitsTheBoxAroundTheLabelledPixels) {
   EXPECT_LE(blue.h_max - blue.h_min, 12);
   EXPECT_LE(blue.s_min, 200);
   EXPECT_GE(blue.s_min, 150);
-  EXPECT_TRUE(p.validate().empty()) << p.validate();
+  EXPECT_FALSE(p.validate().has_value()) << *p.validate();
 }
 
 }  // namespace

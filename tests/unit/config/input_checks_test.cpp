@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "coxswain/config/config.hpp"
 #include "support/testdata.hpp"
@@ -87,17 +88,41 @@ TEST(InputChecks, ADevicesFileWithBadAddressesIsRefusedAtEachLine) {
   swap("rtcm_input: \"\"", "rtcm_input: ntrip://caster:2101");
   swap("http_address: 127.0.0.1", "http_address: localhost");
   swap("control_socket: \"\"", "control_socket: /" + std::string(120, 's'));
+  swap("allowed_hosts: []", "allowed_hosts: [boat.local, \"bad host\"]");
+  swap("allowed_origins: [https://app.foxglove.dev]", "allowed_origins: [ftp://boat.local]");
   const auto path = std::filesystem::temp_directory_path() /
                     ("coxswain_devices_checks_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(path) << yaml;
   ConfigErrors errors;
   (void)load_devices_config(path.string(), errors);
   std::filesystem::remove(path);
-  for (const char* key : {"gnss.rtcm_input", "live.http_address", "live.control_socket"}) {
+  for (const char* key : {"gnss.rtcm_input", "live.http_address", "live.control_socket",
+                          "live.allowed_hosts", "live.allowed_origins"}) {
     bool found = false;
     for (const ConfigIssue& i : errors.issues()) found |= i.key == key && i.line > 0;
     EXPECT_TRUE(found) << key << " not reported:\n" << errors.format();
   }
+}
+
+// The live server's allow-lists are read from the devices file like every other parameter.
+TEST(InputChecks, TheLiveAllowListsAreReadFromTheDevicesFile) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("coxswain_devices_allow_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << "kind: devices\n"
+                         "lidar: {enabled: false}\nimu: {enabled: false}\ngnss: {enabled: false}\n"
+                         "arduino: {enabled: false}\ncamera: {enabled: false}\n"
+                         "live: {allowed_hosts: [boat.local, 192.168.4.1],\n"
+                         "       allowed_origins: [\"http://boat.local:8765\"]}\n";
+  ConfigErrors errors;
+  const DevicesConfig d = load_devices_config(path.string(), errors);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(errors.empty()) << errors.format();
+  EXPECT_EQ(d.live.allowed_hosts, (std::vector<std::string>{"boat.local", "192.168.4.1"}));
+  EXPECT_EQ(d.live.allowed_origins, (std::vector<std::string>{"http://boat.local:8765"}));
+  // Left out, the shipped defaults hold: Foxglove's web app may connect, no extra host name.
+  EXPECT_TRUE(DevicesConfig{}.live.allowed_hosts.empty());
+  EXPECT_EQ(DevicesConfig{}.live.allowed_origins,
+            (std::vector<std::string>{"https://app.foxglove.dev"}));
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "coxswain/config/config.hpp"
 #include "coxswain/config/param_tables.hpp"
 #include "coxswain/config/reference.hpp"
+#include "coxswain/config/vision_config.hpp"
 
 namespace coxswain::config {
 namespace {
@@ -123,6 +124,7 @@ TEST(ParamTables, ThePrintedConfigurationLoadsBackBitForBit) {
                   load_mission_config((dir / "missions" / "kaboat2026.yaml").string(), errors)};
   ASSERT_TRUE(errors.empty()) << errors.format();
   c.mission.avoidance.clearance_m = 0.1 + 0.2;  // not exactly representable in short decimal
+  c.vision.params.background.reject_sigma = 0.1 + 0.2;
   const std::string text = to_yaml(c);
   // Each section of the printout is a file of its kind again.
   const auto section = [&](const std::string& name, const std::string& kind) {
@@ -130,7 +132,7 @@ TEST(ParamTables, ThePrintedConfigurationLoadsBackBitForBit) {
     const std::size_t start = begin == std::string::npos ? text.find(name + ":\n") : begin + 1;
     EXPECT_NE(start, std::string::npos) << name;
     std::size_t end = text.size();
-    for (const char* next : {"\nboat:\n", "\ndevices:\n", "\nmission:\n"}) {
+    for (const char* next : {"\nboat:\n", "\ndevices:\n", "\nmission:\n", "\nvision:\n"}) {
       const std::size_t at = text.find(next, start + 1);
       if (at != std::string::npos && at < end) end = at;
     }
@@ -150,11 +152,13 @@ TEST(ParamTables, ThePrintedConfigurationLoadsBackBitForBit) {
   const auto boat = section("boat", "boat");
   const auto devices = section("devices", "devices");
   const auto mission = section("mission", "mission");
+  const auto vision = section("vision", "vision");
   ConfigErrors again;
+  const auto v = load_vision_file(vision.string(), again);
   const MissionConfig m = load_mission_config(mission.string(), again);
   const BoatConfig b = load_boat_config(boat.string(), again);
   const DevicesConfig d = load_devices_config(devices.string(), again);
-  for (const auto& p : {boat, devices, mission}) std::filesystem::remove(p);
+  for (const auto& p : {boat, devices, mission, vision}) std::filesystem::remove(p);
   ASSERT_TRUE(again.empty()) << again.format();
   EXPECT_EQ(m.avoidance.clearance_m, 0.1 + 0.2);
   for (const auto& row : param_table<guidance::AvoidanceParams>()) {
@@ -170,6 +174,9 @@ TEST(ParamTables, ThePrintedConfigurationLoadsBackBitForBit) {
   }
   EXPECT_EQ(d.gnss.path, c.devices.gnss.path);
   EXPECT_EQ(m.tasks.size(), c.mission.tasks.size());
+  ASSERT_TRUE(v.has_value());
+  EXPECT_EQ(v->background.reject_sigma, 0.1 + 0.2);
+  EXPECT_EQ(v->colour_count, c.vision.params.colour_count);
 }
 
 TEST(ParamTables, TheShippedSchemasAreTheGeneratedOnes) {

@@ -63,6 +63,22 @@ TEST(VisionConfig, WrittenFileReadsBackUnchanged) {
   expect_same(*back, v);
 }
 
+TEST(VisionConfig, WrittenNumbersReadBackBitForBit) {
+  // A venue's tuning with more digits than a default stream prints (6) must survive a save.
+  VisionParams v = VisionParams::defaults();
+  v.min_area_fraction = 0.000412345678912;
+  v.background.reject_sigma = 4.123456789;
+  v.shape.cross_min_defect_depth = 0.1234567891;
+  std::ostringstream out;
+  write_vision(v, out);
+  ConfigErrors errors;
+  const auto back = load_vision_file(temp_file("coxswain_vision_bits.yaml", out.str()), errors);
+  ASSERT_TRUE(back.has_value()) << errors.format();
+  EXPECT_EQ(back->min_area_fraction, v.min_area_fraction);
+  EXPECT_EQ(back->background.reject_sigma, v.background.reject_sigma);
+  EXPECT_EQ(back->shape.cross_min_defect_depth, v.shape.cross_min_defect_depth);
+}
+
 TEST(VisionConfig, UnknownKeyAndBadValuesAreErrorsWithTheirKey) {
   ConfigErrors errors;
   const auto p = load_vision_file(temp_file("coxswain_vision_bad.yaml",

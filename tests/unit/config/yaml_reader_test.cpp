@@ -105,6 +105,51 @@ TEST(LoadYaml, MissingFile) {
   EXPECT_EQ(errors.size(), 1U);
 }
 
+// Aliases of aliases: nine levels of nine make a file of under 1 KiB expand to 9^9 values,
+// which every reader would walk. Refused with the reason, before any reader sees it.
+TEST(LoadYaml, ADocumentThatExpandsPastTheBoundIsRefused) {
+  std::string text = "kind: course\na0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int level = 1; level < 9; ++level) {
+    const std::string prev = "*a" + std::to_string(level - 1);
+    text += "a" + std::to_string(level) + ": &a" + std::to_string(level) + " [";
+    for (int i = 0; i < 9; ++i) text += (i ? ", " : "") + prev;
+    text += "]\n";
+  }
+  TempYaml file(text);
+  ConfigErrors errors;
+  EXPECT_FALSE(load_yaml_file(file.path(), errors));
+  ASSERT_EQ(errors.size(), 1U);
+  EXPECT_NE(errors.issues()[0].message.find("expands to more than 2000000 values"),
+            std::string::npos)
+      << errors.format();
+}
+
+TEST(LoadYaml, AliasesWithinTheBoundAreRead) {
+  TempYaml file("kind: course\na: &a [1, 2, 3]\nb: [*a, *a, *a]\n");
+  ConfigErrors errors;
+  EXPECT_TRUE(load_yaml_file(file.path(), errors)) << errors.format();
+}
+
+TEST(LoadYaml, NestingDeeperThanTheBoundIsRefusedWithItsLine) {
+  std::string deep = "kind: course\nx: ";
+  for (int i = 0; i < kMaxConfigDepth + 5; ++i) deep += "[";
+  for (int i = 0; i < kMaxConfigDepth + 5; ++i) deep += "]";
+  TempYaml file(deep + "\n");
+  ConfigErrors errors;
+  EXPECT_FALSE(load_yaml_file(file.path(), errors));
+  ASSERT_EQ(errors.size(), 1U);
+  EXPECT_NE(errors.issues()[0].message.find("deeper than 64 levels"), std::string::npos)
+      << errors.format();
+  EXPECT_EQ(errors.issues()[0].line, 2);
+
+  std::string fine = "kind: course\nx: ";
+  for (int i = 0; i < 10; ++i) fine += "[";
+  for (int i = 0; i < 10; ++i) fine += "]";
+  TempYaml ok(fine + "\n");
+  ConfigErrors none;
+  EXPECT_TRUE(load_yaml_file(ok.path(), none)) << none.format();
+}
+
 TEST(MissionConfig, BadValuesAreAllReported) {
   TempYaml file(
       "kind: mission\n"

@@ -103,6 +103,15 @@ TEST(TunableParameters, EveryGroupIsNamedOnceAndEveryShippedMissionLiesInTheRang
   }
 }
 
+TEST(MissionCoreParameters, TheAvoidanceKeepsClearTheHullOfTheBoatFile) {
+  config::Configuration hop = hopping();
+  hop.boat.hull = {2.0, 1.1, 0.3};  // length, beam, bow overhang
+  MissionCore core(hop.boat, hop.mission);
+  EXPECT_DOUBLE_EQ(core.parameters().avoidance.half_beam_m, 0.55);
+  EXPECT_DOUBLE_EQ(core.parameters().avoidance.hull_length_m, 2.0);
+  EXPECT_DOUBLE_EQ(core.parameters().avoidance.bow_ahead_m, 0.3);
+}
+
 TEST(MissionCoreParameters, ApplyRejectsInvalidSetsAndKeepsTheOldOne) {
   const config::Configuration hop = hopping();
   MissionCore core(hop.boat, hop.mission);
@@ -169,11 +178,11 @@ TEST(MissionCoreParameters, ANewGainChangesTheNextStepsTurn) {
 }
 
 TEST(MissionCoreParameters, AShorterDetectionRangeIgnoresABuoyTheLongerOneAvoids) {
-  // A buoy 6 m ahead on the line to the gate: avoided at the default 8 m detection range, ignored
-  // (steered straight at the goal) once the operator shortens the range to 3 m.
+  // A buoy 4 m ahead on the line to the gate: avoided at the default 5 m detection range, ignored
+  // (steered straight at the goal) once the operator shortens the range to 2 m.
   auto make = [] {
     auto rig = std::make_unique<Rig>(obstacle());
-    rig->world_buoys.push_back({{6.0, 0.2}, 0.5});
+    rig->world_buoys.push_back({{4.0, 0.2}, 0.5});
     return rig;
   };
   auto near = make();
@@ -184,10 +193,10 @@ TEST(MissionCoreParameters, AShorterDetectionRangeIgnoresABuoyTheLongerOneAvoids
         << r->log_text();
   }
   TunableParameters p = near->core.parameters();
-  ASSERT_GT(p.avoidance.detection_range_m, 6.5);
-  p.avoidance.detection_range_m = 3.0;
+  ASSERT_GT(p.avoidance.detection_range_m, 4.5);
+  p.avoidance.detection_range_m = 2.0;
   p.avoidance.min_detection_range_m = 1.0;
-  p.avoidance.score_block_range_m = 3.0;
+  p.avoidance.score_block_range_m = 2.0;
   ASSERT_EQ(near->core.apply_parameters(p), "");
   near->run_for(0.2);
   far->run_for(0.2);

@@ -44,6 +44,7 @@ msg::GnssFix make_fix() {
   f.course_deg = -18.4;
   f.utc_ns = 1700000000123456789;
   f.itow_ms = 345600000;
+  f.s_acc_mps = 0.12;
   return f;
 }
 
@@ -64,6 +65,35 @@ msg::DeviceHealth make_health(msg::DeviceId id) {
   return h;
 }
 
+TEST(Layouts, AGnssFixOfTheFirstVersionReadsWithoutASpeedAccuracy) {
+  // Version 1 had no s_acc_mps: the same bytes without its last field, version byte 1.
+  std::vector<std::uint8_t> buf(kMaxLidarBytes);
+  const std::size_t n = encode_sample(buf, 3, make_fix());
+  ASSERT_EQ(buf[0], 2);
+  buf[0] = 1;
+  std::uint64_t seq = 0;
+  msg::GnssFix old;
+  ASSERT_TRUE(decode_sample(std::span(buf).first(n - 8), seq, old));
+  EXPECT_EQ(old.s_acc_mps, -1.0);  // unknown, the struct's default
+  EXPECT_EQ(old.itow_ms, make_fix().itow_ms);
+  // The current version needs the field; a version from the future is refused.
+  EXPECT_FALSE(decode_sample(std::span(buf).first(n - 8).subspan(0, n - 9), seq, old));
+  buf[0] = 3;
+  EXPECT_FALSE(decode_sample(std::span(buf).first(n), seq, old));
+}
+
+TEST(Layouts, TheSchemaTextComesFromTheFieldListAndNamesEveryField) {
+  const std::string gnss(layout_schema_text(Layout::kGnss));
+  EXPECT_NE(gnss.find("coxswain.GnssFix v2"), std::string::npos);
+  EXPECT_NE(gnss.find("f64 lat_deg; f64 lon_deg;"), std::string::npos);
+  EXPECT_NE(gnss.find("f64 s_acc_mps (since v2)"), std::string::npos);
+  const std::string imu(layout_schema_text(Layout::kImu));
+  EXPECT_NE(imu.find("f64[3] accel_g"), std::string::npos);
+  const std::string lidar(layout_schema_text(Layout::kLidar));
+  EXPECT_NE(lidar.find("point_count x (f32 bearing_deg (body frame); f32 range_m"),
+            std::string::npos);
+}
+
 TEST(Layouts, DecodedMessagesRoundTrip) {
   std::vector<std::uint8_t> buf(kMaxLidarBytes);
   std::uint64_t seq = 0;
@@ -75,6 +105,7 @@ TEST(Layouts, DecodedMessagesRoundTrip) {
   EXPECT_EQ(fix2.lat_deg, fix.lat_deg);
   EXPECT_EQ(fix2.utc_ns, fix.utc_ns);
   EXPECT_EQ(fix2.rtk, fix.rtk);
+  EXPECT_EQ(fix2.s_acc_mps, fix.s_acc_mps);
   EXPECT_TRUE(same_bytes(fix, fix2));
 
   msg::ImuSample imu;
@@ -252,7 +283,8 @@ TEST(Layouts, FormatDocumentHoldsEveryLayoutText) {
        {Layout::kRaw, Layout::kTick, Layout::kGnss, Layout::kImu, Layout::kLidar, Layout::kCamera,
         Layout::kArduino, Layout::kOperator, Layout::kHealth, Layout::kParameters}) {
     EXPECT_NE(doc.find(std::string(layout_schema_text(l))), std::string::npos)
-        << layout_schema_name(l) << " is not documented verbatim in FORMAT.md";
+        << layout_schema_name(l) << " is not documented verbatim in FORMAT.md; it reads:\n"
+        << layout_schema_text(l);
   }
 }
 

@@ -17,8 +17,8 @@
 
 #include "commands.hpp"
 #include "coxswain/core/angles.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/sensors/camera_sim.hpp"
-#include "sim/sensors/rng.hpp"
 
 namespace coxswain::sim::app {
 namespace {
@@ -79,7 +79,7 @@ int render(const RenderOptions& o) {
   int markers = 0;
   int buoys = 0;
   for (int i = 0; i < o.count; ++i) {
-    sensors::Rng rng(sensors::derive_seed(o.seed, static_cast<std::uint64_t>(i)));
+    sim::Rng rng(sim::derive_seed(o.seed, static_cast<std::uint64_t>(i)));
     sensors::CameraSimConfig cam;
     cam.width_px = o.width_px;
     cam.height_px = o.height_px;

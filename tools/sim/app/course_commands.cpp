@@ -49,11 +49,7 @@ void add_course_commands(CLI::App& app, int& exit_code) {
   check->callback([&exit_code] {
     for (const auto& file : check_files) {
       config::ConfigErrors errors;
-      const world::Course c = world::load_course_file(file, errors);
-      std::string why;
-      if (errors.empty() && !world::course_is_solvable(c.world, 0.8, 0.3, &why)) {
-        errors.add({file, 0, "", "not solvable for a 0.8 m hull with 0.3 m margins: " + why});
-      }
+      const world::Course c = world::check_course_file(file, errors);
       if (errors.empty()) {
         std::cout << file << ": ok (" << world::course_kind_name(c.world.kind) << ", "
                   << c.world.walls.size() << " walls, " << c.world.buoys.size() << " buoys, "

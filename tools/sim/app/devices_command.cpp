@@ -9,7 +9,9 @@
 #include <ctime>
 #include <iomanip>
 #include <iostream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "sim/devices_mode/devices_mode.hpp"
@@ -58,6 +60,14 @@ void print_outcome(const devices_mode::DevicesOutcome& o, const std::string& run
             << (sc.circled ? "yes" : "no") << ", recognised " << (sc.recognised ? "yes" : "no")
             << ", docked " << (sc.docked ? "yes" : "no") << ", bonus " << sc.bonus_points
             << ", score " << sc.score_s << " s\n";
+  if (!o.faults.empty()) {
+    std::size_t recovered = 0;
+    for (const auto& f : o.faults) recovered += devices_mode::fault_recovered(f) ? 1U : 0U;
+    std::cout << "faults: " << recovered << " of " << o.faults.size() << " held and recovered\n";
+    for (const auto& f : o.faults) {
+      std::cout << "  fault " << devices_mode::fault_summary_line(f) << "\n";
+    }
+  }
   std::cout << "result: " << run_dir << "/result.json, " << run_dir << "/track.svg\n";
 }
 
@@ -96,7 +106,31 @@ void add_devices_command(CLI::App& app, int& exit_code) {
   static bool no_progress = false;
   cmd->add_flag("--no-progress", no_progress,
                 "no progress line (time, mission state, score so far) every second");
+  static std::vector<std::string> faults;
+  cmd->add_option("--fault", faults,
+                  "fault on a serial device at T s of the run, DURATION s long: "
+                  "DEVICE:KIND@T[+DURATION], DEVICE lidar|imu|gnss|arduino, KIND "
+                  "unplug|reset|garbage|silence|baud (repeatable; e.g. gnss:unplug@40+3)")
+      ->take_all();
+  cmd->add_flag("--run-past-finish", options.run_past_finish,
+                "keep the world, devices and daemon running after the mission finished, until "
+                "--time-limit (faults go on)");
+  static int live_port = -1;
+  cmd->add_option("--live-port", live_port,
+                  "the daemon's live HTTP port (0: any free port, written to the daemon's "
+                  "<run dir>/live.port)")
+      ->check(CLI::Range(0, 65535));
   cmd->callback([&exit_code] {
+    options.faults.clear();
+    try {
+      for (const std::string& f : faults)
+        options.faults.push_back(devices_mode::parse_fault_spec(f));
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "coxswain-sim devices: " << e.what() << "\n";
+      exit_code = 2;
+      return;
+    }
+    if (live_port >= 0) options.live_http_port = live_port;
     options.course_file = course;
     options.mission_file = mission;
     options.boat_file = boat;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/devices_mode/devices_mode.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -143,6 +144,21 @@ std::string outcome_json(const DevicesOutcome& o) {
   }
   d["transitions"] = tr;
   j["daemon"] = d;
+  nlohmann::json faults = nlohmann::json::array();
+  for (const FaultRecord& f : o.faults) {
+    nlohmann::json jf;
+    jf["spec"] = fault_spec_text(f.spec);
+    jf["summary"] = fault_summary_line(f);
+    jf["recovered"] = fault_recovered(f);
+    jf["sailing_at_start"] = f.sailing_at_start;
+    if (f.began_s) jf["began_s"] = *f.began_s;
+    if (f.ended_s) jf["ended_s"] = *f.ended_s;
+    if (f.held_after_ms) jf["held_after_ms"] = *f.held_after_ms;
+    if (f.device_back_s) jf["device_back_after_end_s"] = *f.device_back_s;
+    if (f.resumed_after_s) jf["resumed_after_end_s"] = *f.resumed_after_s;
+    faults.push_back(jf);
+  }
+  j["faults"] = faults;
   return j.dump(2) + "\n";
 }
 
@@ -174,11 +190,75 @@ struct DevicesMode::Impl {
         boat(std::move(b)),
         mission(std::move(m)),
         sensors(std::move(s)),
-        lidar_emu(devices::rplidar::EmulatorConfig{.model = devices::rplidar::Model::kA2,
-                                                   .revolution_hz = sensors.lidar.rate_hz}),
+        lidar_emu(lidar_config()),
         gnss_emu(devices::ublox::EmulatorConfig{}),
         imu_emu(devices::myahrs::EmulatorConfig{}),
         arduino_emu(arduino_config(boat, mission)) {}
+
+  [[nodiscard]] devices::rplidar::EmulatorConfig lidar_config() const {
+    return devices::rplidar::EmulatorConfig{.model = devices::rplidar::Model::kA2,
+                                            .revolution_hz = sensors.lidar.rate_hz};
+  }
+
+  // A USB reset: the device's power-on state (its start-up is sent again, its configuration is
+  // lost). Called under the device's host lock. The Arduino's inputs are the world's (RC,
+  // switches), not the board's, so they stay.
+  void power_cycle(msg::DeviceId id) {
+    switch (id) {
+      case msg::DeviceId::kLidar:
+        lidar_emu = devices::rplidar::Emulator(lidar_config());
+        break;
+      case msg::DeviceId::kGnss:
+        gnss_emu = devices::ublox::Emulator(devices::ublox::EmulatorConfig{});
+        break;
+      case msg::DeviceId::kImu:
+        imu_emu = devices::myahrs::Emulator(devices::myahrs::EmulatorConfig{});
+        break;
+      case msg::DeviceId::kArduino: {
+        const auto inputs = arduino_emu.inputs();
+        arduino_emu = devices::arduino::Emulator(arduino_config(boat, mission));
+        arduino_emu.set_inputs(inputs);
+        break;
+      }
+      case msg::DeviceId::kCamera:
+        break;
+    }
+  }
+
+  // Applies (`on`) or undoes a fault on its device's host.
+  void apply_fault(const FaultSpec& f, bool on) {
+    pty::EmulatorHost& host = serial(f.device);
+    switch (f.kind) {
+      case FaultKind::kUnplug:
+        if (on) {
+          host.unplug();
+        } else {
+          host.replug();
+        }
+        break;
+      case FaultKind::kReset:
+        if (on) {
+          host.unplug();
+          host.locked([&] { power_cycle(f.device); });
+        } else {
+          host.replug();
+        }
+        break;
+      case FaultKind::kGarbage:
+        // A flood: random bursts before every chunk and every byte of the device's own output
+        // corrupted, so no frame survives.
+        host.set_garbage(on ? 1.0 : 0.0, 64);
+        host.set_corruption(on ? 1.0 : 0.0);
+        break;
+      case FaultKind::kSilence:
+        host.set_silent(on);
+        break;
+      case FaultKind::kBaud:
+        // Read at the wrong rate, every byte is wrong (the device's bytes keep coming).
+        host.set_corruption(on ? 1.0 : 0.0);
+        break;
+    }
+  }
 
   static devices::arduino::EmulatorConfig arduino_config(const config::BoatConfig& boat,
                                                          const config::MissionConfig& mission) {
@@ -199,7 +279,7 @@ struct DevicesMode::Impl {
   // of a mission started from the control interface.
   // A Unix socket path holds at most 107 bytes: a deep run directory gets one in the temp folder.
   fs::path control_socket() const {
-    const fs::path in_run_dir = fs::absolute(options.run_dir) / "control.sock";
+    fs::path in_run_dir = fs::absolute(options.run_dir) / "control.sock";
     if (in_run_dir.string().size() < 100) return in_run_dir;
     return fs::temp_directory_path() / ("coxswain-sim-" + std::to_string(::getpid()) + ".sock");
   }
@@ -224,7 +304,9 @@ struct DevicesMode::Impl {
       << "camera: {source: \"follow:" << camera_dir().string() << "\", width_px: " << cam.width_px
       << ", height_px: " << cam.height_px << ", fps: " << cam.rate_hz
       << ", hfov_deg: " << cam.hfov_deg << ", timeout_ms: 1000}\n"
-      << "live: {control_socket: \"" << control_socket().string() << "\"}\n";
+      << "live: {control_socket: \"" << control_socket().string() << "\"";
+    if (options.live_http_port) y << ", http_port: " << *options.live_http_port;
+    y << "}\n";
     write_text(devices_yaml(), y.str());
   }
 };
@@ -268,8 +350,8 @@ DevicesMode::DevicesMode(DevicesModeOptions options) {
   sensor_config.camera.seed += options.seed * 1000;
   // The course's own sensor conditions win over the sensors file.
   sensors::apply_conditions(course.world.conditions, sensor_config);
-  if (const std::string why = sensor_config.validate(); !why.empty()) {
-    throw std::runtime_error("sensors: " + why);
+  if (const auto why = sensor_config.validate()) {
+    throw std::runtime_error("sensors: " + *why);
   }
   const double limit = options.time_limit_s;
   impl_ = std::make_unique<Impl>(std::move(options), std::move(course), std::move(boat),
@@ -395,6 +477,11 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   core::TimeNs next_check_ns = 0;
   core::TimeNs next_progress_ns = core::kNsPerSec;
   const ard::LogicConfig logic = logic_config(s.boat, kFailsafeMs);
+  for (const FaultSpec& f : s.options.faults) {
+    FaultRecord r;
+    r.spec = f;
+    out.faults.push_back(r);
+  }
   for (;;) {
     // 1. The Arduino's applied outputs drive the boat (no signal in the bootloader = neutral).
     const ard::LogicOutputs outputs =
@@ -431,6 +518,23 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
       s.serial(msg::DeviceId::kImu).locked([&] { s.imu_emu.set_truth(imu.sample()); });
     }
     if (camera.update(t, truth.pose, frame) && frames.write(frame)) ++out.frames_written;
+    // Faults fall due on the world's time.
+    for (FaultRecord& f : out.faults) {
+      const double t_s = core::ns_to_sec(t);
+      if (!f.began_s && t_s >= f.spec.at_s) {
+        const DaemonReport r = daemon.report();
+        const std::string state = r.transitions.empty() ? "" : r.transitions.back().to;
+        f.sailing_at_start = !r.finished && !state.empty() && !state.starts_with("hold/") &&
+                             state != "wait_for_start" && state != "finished";
+        f.began_s = t_s;
+        f.began_ns = clock.now_ns();
+        s.apply_fault(f.spec, true);
+      } else if (f.began_s && !f.ended_s && t_s >= f.spec.at_s + f.spec.duration_s) {
+        s.apply_fault(f.spec, false);
+        f.ended_s = t_s;
+        f.ended_ns = clock.now_ns();
+      }
+    }
     scorer.update(truth, static_cast<msg::LedColour>(outputs.led));
     if (t >= next_trace_ns) {
       next_trace_ns += 100 * core::kNsPerMs;
@@ -487,7 +591,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
         out.end = EndReason::kInterrupted;
         break;
       }
-      if (r.finished) {
+      if (r.finished && !s.options.run_past_finish) {
         out.end = EndReason::kMissionFinished;
         break;
       }
@@ -495,7 +599,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
         out.end = EndReason::kDaemonExited;
         break;
       }
-      if (scorer.done()) {
+      if (scorer.done() && !s.options.run_past_finish) {
         out.end = EndReason::kScored;
         break;
       }
@@ -520,6 +624,17 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   // ports in order; then the hosts unplug (links removed) and the frames are cleared.
   out.daemon_exit_status = daemon.stop();
   out.daemon = daemon.report();
+  {
+    // Each fault owns the log lines from its start to the start of the next fault (any device).
+    const std::vector<LogLine> lines = daemon.lines();
+    for (FaultRecord& f : out.faults) {
+      core::TimeNs until_ns = kNoLaterFault;
+      for (const FaultRecord& g : out.faults) {
+        if (g.began_s && g.began_ns > f.began_ns) until_ns = std::min(until_ns, g.began_ns);
+      }
+      observe_fault(lines, f, until_ns);
+    }
+  }
   {
     std::lock_guard<std::mutex> lock(s.mutex);
     for (auto& h : s.hosts) h.reset();

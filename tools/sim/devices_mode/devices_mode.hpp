@@ -30,6 +30,7 @@
 #include "coxswain/config/config.hpp"
 #include "coxswain/msg/device_health.hpp"
 #include "sim/devices_mode/daemon_process.hpp"
+#include "sim/devices_mode/faults.hpp"
 #include "sim/dynamics/boat_model.hpp"
 #include "sim/pty/emulator_host.hpp"
 #include "sim/scoring/scorer.hpp"
@@ -59,6 +60,14 @@ struct DevicesModeOptions {
   std::function<void(const DevicesProgress&)> on_progress;
   /// Extra arguments after `run` (e.g. --run-for-s).
   std::vector<std::string> daemon_run_args;
+  /// Faults applied to the serial devices at their times of the run (faults.hpp).
+  std::vector<FaultSpec> faults;
+  /// Keep the world, the devices and the daemon running after the mission finished (or the
+  /// course was scored) until the time limit: faults and live traffic go on (the soak).
+  bool run_past_finish = false;
+  /// The daemon's live HTTP/WebSocket port (live.http_port; 0 = any free port, written to
+  /// <daemon run dir>/live.port); empty: the devices file's default.
+  std::optional<int> live_http_port;
 };
 
 /// The default config folder (the source tree's config/).
@@ -86,6 +95,7 @@ struct DevicesOutcome {
   double world_max_lateness_ms = 0.0;
   std::uint64_t frames_written = 0;
   std::uint64_t lidar_revolutions_fed = 0;
+  std::vector<FaultRecord> faults;  // each fault asked for, with what the daemon did about it
 };
 
 /// One line of progress (no newline): "t 12 s, state transit, waypoints 2, gates 1, docks 0,

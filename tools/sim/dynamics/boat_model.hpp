@@ -14,7 +14,7 @@
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/time.hpp"
 #include "sim/dynamics/params.hpp"
-#include "sim/dynamics/rng.hpp"
+#include "sim/rng/rng.hpp"
 
 namespace coxswain::sim::dynamics {
 

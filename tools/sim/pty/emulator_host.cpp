@@ -124,22 +124,19 @@ void EmulatorHost::service(core::TimeNs now_ns) {
     } else if (silent_) {
       counters_.silenced_bytes += out.size();
     } else {
-      if (garbage_probability_ > 0.0 &&
-          std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < garbage_probability_) {
-        const std::size_t n =
-            std::uniform_int_distribution<std::size_t>(1, garbage_max_bytes_)(rng_);
+      if (rng_.chance(garbage_probability_)) {
+        const std::size_t n = 1 + static_cast<std::size_t>(rng_.below(garbage_max_bytes_));
         scratch_.resize(n);
-        for (auto& b : scratch_) b = static_cast<std::uint8_t>(rng_() & 0xFFU);
+        for (auto& b : scratch_) b = static_cast<std::uint8_t>(rng_.next_u64() & 0xFFU);
         ++counters_.garbage_bursts;
         counters_.garbage_bytes += n;
         enqueue(scratch_);
       }
       scratch_.assign(out.begin(), out.end());
       if (flip_probability_ > 0.0) {
-        std::uniform_real_distribution<double> uniform(0.0, 1.0);
         for (auto& b : scratch_) {
-          if (uniform(rng_) < flip_probability_) {
-            b = static_cast<std::uint8_t>(b ^ (1U << (rng_() % 8U)));
+          if (rng_.chance(flip_probability_)) {
+            b = static_cast<std::uint8_t>(b ^ (1U << rng_.below(8)));
             ++counters_.bits_flipped;
           }
         }

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
-#include <random>
 #include <string>
 #include <thread>
 #include <utility>
@@ -18,6 +17,7 @@
 #include "coxswain/core/time.hpp"
 #include "sim/devices/device_emulator.hpp"
 #include "sim/pty/pseudo_terminal.hpp"
+#include "sim/rng/rng.hpp"
 
 namespace coxswain::sim::pty {
 
@@ -113,7 +113,7 @@ class EmulatorHost {
   double garbage_probability_ = 0.0;
   std::size_t garbage_max_bytes_ = 32;
   double flip_probability_ = 0.0;
-  std::mt19937_64 rng_;
+  Rng rng_;
   std::vector<std::uint8_t> pending_;  // accepted from the device, not yet by the pty
   std::vector<std::uint8_t> scratch_;
   std::vector<std::uint8_t> read_buf_;

@@ -92,8 +92,8 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   sensors::SensorConfig sensor_config =
       fitted_sensor_config(options.sensors, course.world, config, options.seed);
   sensors::apply_conditions(course.world.conditions, sensor_config);
-  if (const std::string why = sensor_config.validate(); !why.empty()) {
-    throw std::invalid_argument("sensors: " + why);
+  if (const auto why = sensor_config.validate()) {
+    throw std::invalid_argument("sensors: " + *why);
   }
   RealisticSensorSuite suite(course.world, config, sensor_config, so);
   RunnerOptions ro;

@@ -146,7 +146,7 @@ cv::Scalar paint_bgr(msg::Colour colour) {
   return {128, 128, 128};
 }
 
-std::string CameraSimConfig::validate() const {
+std::optional<std::string> CameraSimConfig::validate() const {
   if (width_px < 16 || width_px > 4096 || height_px < 16 || height_px > 4096) {
     return "camera width_px/height_px in [16, 4096]";
   }

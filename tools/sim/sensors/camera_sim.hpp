@@ -18,7 +18,7 @@
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/msg/camera_detections.hpp"
-#include "sim/sensors/rng.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/world/world.hpp"
 
 namespace coxswain::sim::sensors {
@@ -53,7 +53,7 @@ struct CameraSimConfig {
   Venue venue = Venue::kPool;
   std::uint64_t seed = 4;
 
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// BGR paint of each colour (saturated placard paints the default HSV ranges accept).

@@ -14,7 +14,7 @@ constexpr std::int64_t kGpsLeapS = 18;                // GPS - UTC since 2017
 constexpr std::int64_t kWeekMs = 604'800'000;
 }  // namespace
 
-std::string GnssSimConfig::validate() const {
+std::optional<std::string> GnssSimConfig::validate() const {
   if (!(rate_hz >= 0.1 && rate_hz <= 25.0)) return "gnss rate_hz must be in [0.1, 25]";
   if (!std::isfinite(mount.x_m) || !std::isfinite(mount.y_m)) return "gnss mount must be finite";
   if (!(antenna_height_m >= 0.0 && antenna_height_m <= 10.0)) {
@@ -186,6 +186,7 @@ bool GnssSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
   const double ve = truth.vel_east_mps + vx_body * std::sin(psi) + vy_body * std::cos(psi) +
                     rng_.normal(config_.velocity_noise_mps);
   f.velocity_valid = true;
+  f.s_acc_mps = std::max(0.001, std::sqrt(2.0) * config_.velocity_noise_mps);  // as hAcc
   f.vel_north_mps = vn;
   f.vel_east_mps = ve;
   f.vel_down_mps = rng_.normal(config_.velocity_noise_mps);

@@ -5,13 +5,14 @@
 // one way), white noise and occasional loss of fix; or RTK float/fixed with centimetre noise.
 // Fills every field the UBX NAV-PVT decoder fills. Deterministic for a seed. Not thread-safe.
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/msg/gnss_fix.hpp"
-#include "sim/sensors/rng.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/sensors/truth.hpp"
 
 namespace coxswain::sim::sensors {
@@ -47,7 +48,7 @@ struct GnssSimConfig {
   std::int64_t utc_at_zero_ns = 1'660'989'600LL * 1'000'000'000LL;
   std::uint64_t seed = 2;
 
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 class GnssSim {

@@ -14,7 +14,7 @@ namespace {
 constexpr double kGravityMps2 = 9.80665;
 }  // namespace
 
-std::string ImuSimConfig::validate() const {
+std::optional<std::string> ImuSimConfig::validate() const {
   if (!(rate_hz >= 1.0 && rate_hz <= 100.0)) return "imu rate_hz must be in [1, 100]";
   if (!std::isfinite(mount_yaw_deg) || std::abs(mount_yaw_deg) > 360.0) {
     return "imu mount_yaw_deg must be within [-360, 360]";

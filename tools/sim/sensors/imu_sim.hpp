@@ -7,13 +7,14 @@
 // accelerations and the magnetic field in the board's axes (x along its arrow, y right, z down;
 // the board is turned mount_yaw_deg from the bow). Deterministic for a seed. Not thread-safe.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/time.hpp"
 #include "coxswain/msg/imu_sample.hpp"
-#include "sim/sensors/rng.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/sensors/truth.hpp"
 
 namespace coxswain::sim::sensors {
@@ -49,7 +50,7 @@ struct ImuSimConfig {
   double temperature_c = 28.0;
   std::uint64_t seed = 3;
 
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 class ImuSim {

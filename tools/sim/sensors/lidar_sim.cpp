@@ -57,7 +57,7 @@ double LidarSimConfig::sample_duration_us() const {
   return 1e6 / (rate_hz * static_cast<double>(beams_per_revolution()));
 }
 
-std::string LidarSimConfig::validate() const {
+std::optional<std::string> LidarSimConfig::validate() const {
   if (!(rate_hz >= 1.0 && rate_hz <= 50.0)) return "lidar rate_hz must be in [1, 50]";
   if (!(angular_step_deg >= 0.05 && angular_step_deg <= 10.0)) {
     return "lidar angular_step_deg must be in [0.05, 10]";
@@ -195,9 +195,10 @@ LidarUpdate LidarSim::update(core::TimeNs now_ns, const BoatTruth& truth) {
   double step_deg = 0.0;
   const double sign = config_.clockwise ? 1.0 : -1.0;
   for (;;) {
-    // Beam times are non-negative offsets: truncating x + 0.5 rounds them to the nanosecond.
+    // Beam times are non-negative offsets, rounded to the nanosecond.
     const core::TimeNs t_ns =
-        origin_ns_ + static_cast<core::TimeNs>(static_cast<double>(next_beam_) * sample_ns_ + 0.5);
+        origin_ns_ +
+        static_cast<core::TimeNs>(std::llround(static_cast<double>(next_beam_) * sample_ns_));
     if (t_ns > now_ns) break;
     const double f = static_cast<double>(t_ns - last_ns_) / span_ns;
     const core::NavPoint origin{from.north_m + f * (to.north_m - from.north_m),

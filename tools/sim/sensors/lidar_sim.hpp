@@ -8,6 +8,7 @@
 // Deterministic for a seed. Not thread-safe; no allocation per update once built.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -17,8 +18,8 @@
 #include "coxswain/drivers/rplidar/protocol.hpp"
 #include "coxswain/drivers/rplidar/scan_assembler.hpp"
 #include "coxswain/msg/lidar_scan.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/sensors/ray_scene.hpp"
-#include "sim/sensors/rng.hpp"
 #include "sim/sensors/truth.hpp"
 #include "sim/world/world.hpp"
 
@@ -50,7 +51,7 @@ struct LidarSimConfig {
   [[nodiscard]] int beams_per_revolution() const;
   [[nodiscard]] double sample_duration_us() const;
   /// Empty when valid, else what is wrong.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// One raw beam as the lidar measures it: its own angle (clockwise from its own 0), the range,

@@ -8,12 +8,11 @@ namespace coxswain::sim::sensors {
 using config::Bounds;
 using config::MapReader;
 
-std::string SensorConfig::validate() const {
-  for (const std::string& e :
-       {lidar.validate(), gnss.validate(), imu.validate(), camera.validate()}) {
-    if (!e.empty()) return e;
+std::optional<std::string> SensorConfig::validate() const {
+  for (auto e : {lidar.validate(), gnss.validate(), imu.validate(), camera.validate()}) {
+    if (e) return e;
   }
-  return {};
+  return std::nullopt;
 }
 
 namespace {
@@ -34,8 +33,8 @@ std::uint64_t read_seed(MapReader& r, std::uint64_t derived) {
   return r.get<std::uint64_t>("seed", derived);
 }
 
-void check(MapReader& r, const std::string& problem) {
-  if (!problem.empty()) r.error("", problem);
+void check(MapReader& r, const std::optional<std::string>& problem) {
+  if (problem) r.error("", *problem);
 }
 
 LidarSimConfig read_lidar(MapReader& r, std::uint64_t seed) {

@@ -22,7 +22,7 @@ struct SensorConfig {
   CameraSimConfig camera;
 
   /// Empty when valid, else the first problem found.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Applies a course's sensor conditions over `config` (each value the course gives wins). A bias

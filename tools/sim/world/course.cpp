@@ -39,11 +39,10 @@ msg::Shape read_shape(MapReader& m, std::string_view key, msg::Shape fallback) {
                      {"circle", msg::Shape::kCircle}});
 }
 
-// A point written as [north_m, east_m].
-std::optional<core::NavPoint> parse_point(const YAML::Node& node) {
-  if (!node.IsSequence() || node.size() != 2) return std::nullopt;
+// A point written as [north_m, east_m], from its two items.
+std::optional<core::NavPoint> parse_point_items(const YAML::Node& north, const YAML::Node& east) {
   try {
-    core::NavPoint p{node[0].as<double>(), node[1].as<double>()};
+    core::NavPoint p{north.as<double>(), east.as<double>()};
     if (!std::isfinite(p.north_m) || !std::isfinite(p.east_m)) return std::nullopt;
     if (std::abs(p.north_m) > kCoord.max || std::abs(p.east_m) > kCoord.max) return std::nullopt;
     return p;
@@ -52,16 +51,21 @@ std::optional<core::NavPoint> parse_point(const YAML::Node& node) {
   }
 }
 
+std::optional<core::NavPoint> parse_point(const YAML::Node& node) {
+  if (!node.IsSequence() || node.size() != 2) return std::nullopt;
+  return parse_point_items(node[0], node[1]);
+}
+
 core::NavPoint read_point(MapReader& m, std::string_view key) {
   if (!m.has(key)) {
     m.error(key, "is required: a point [north_m, east_m]");
     (void)m.sequence(key);
     return {};
   }
+  // The items are read where they are: a new node holding them would merge the whole
+  // document's node pool into its own, once per point (quadratic in the course's size).
   const std::vector<YAML::Node> items = m.sequence(key);
-  YAML::Node seq(YAML::NodeType::Sequence);
-  for (const auto& item : items) seq.push_back(item);
-  const auto p = parse_point(seq);
+  const auto p = items.size() == 2 ? parse_point_items(items[0], items[1]) : std::nullopt;
   if (!p) {
     m.error(key, "must be a point [north_m, east_m] of two finite numbers");
     return {};
@@ -214,6 +218,18 @@ void validate_world(const World& w, ConfigErrors& errors, double start_clearance
   auto issue = [&](const std::string& key, const std::string& message) {
     errors.add({w.file, 0, key, message});
   };
+  std::size_t obstacles = w.buoys.size();
+  for (const Wall& wall : w.walls) obstacles += wall.points.size() > 1 ? wall.points.size() - 1 : 0;
+  for (const Dock& d : w.docks) {
+    for (const Wall& wall : d.walls)
+      obstacles += wall.points.size() > 1 ? wall.points.size() - 1 : 0;
+  }
+  if (obstacles > kMaxCourseObstacles) {
+    issue("", "has " + std::to_string(obstacles) +
+                  " obstacles (buoys and wall segments); a course "
+                  "may have at most " +
+                  std::to_string(kMaxCourseObstacles));
+  }
   for (std::size_t i = 0; i < w.walls.size(); ++i) {
     const auto& pts = w.walls[i].points;
     const std::string key = "walls[" + std::to_string(i) + "]";

@@ -23,6 +23,10 @@ struct Course {
   dynamics::DynamicsOverrides dynamics;  // `dynamics:` (overrides of the scaled-Otter defaults)
 };
 
+/// The most obstacles (buoys plus wall and dock-wall segments) a course may have; more are
+/// refused with the count.
+inline constexpr std::size_t kMaxCourseObstacles = 50'000;
+
 /// Loads and validates a course file; problems go to `errors` (then the result must not be used).
 Course load_course_file(const std::string& path, config::ConfigErrors& errors);
 /// The world of a course file (see load_course_file).

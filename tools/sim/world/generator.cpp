@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
-#include "sim/dynamics/rng.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/world/geometry.hpp"
 
 namespace coxswain::sim::world {
@@ -374,10 +374,22 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
   Grid g;
   g.n0 = n_min - 2.0;
   g.e0 = e_min - 2.0;
-  g.rows = static_cast<int>(std::ceil((n_max - n_min + 4.0) / g.cell));
-  g.cols = static_cast<int>(std::ceil((e_max - e_min + 4.0) / g.cell));
+  const double rows_d = std::ceil((n_max - n_min + 4.0) / g.cell);
+  const double cols_d = std::ceil((e_max - e_min + 4.0) / g.cell);
+  if (rows_d * cols_d > static_cast<double>(kMaxSolvableCells)) {
+    if (why != nullptr) {
+      *why = "the course spans " + std::to_string(std::lround(n_max - n_min)) + " m x " +
+             std::to_string(std::lround(e_max - e_min)) + " m; the check covers at most " +
+             std::to_string(kMaxSolvableCells / 1'000'000) + " million 0.1 m cells (1 km x 1 km)";
+    }
+    return false;
+  }
+  g.rows = static_cast<int>(rows_d);
+  g.cols = static_cast<int>(cols_d);
+  // One byte per cell: 0 free, 1 blocked, 2 reached from the start.
   g.blocked.assign(static_cast<std::size_t>(g.rows) * static_cast<std::size_t>(g.cols), 0);
-  // Rasterise each obstacle over its own bounding box only (the grid is large, obstacles small).
+  // Rasterise each obstacle over its own bounding box only (the grid is large, obstacles small):
+  // the whole check is linear in the obstacles and in the grid's cells.
   auto mark = [&](double bn0, double bn1, double be0, double be1, const auto& blocked_at) {
     const int r0 = std::max(0, static_cast<int>(std::floor((bn0 - g.n0) / g.cell)));
     const int r1 = std::min(g.rows - 1, static_cast<int>(std::floor((bn1 - g.n0) / g.cell)));
@@ -386,15 +398,22 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
     for (int r = r0; r <= r1; ++r) {
       for (int c = c0; c <= c1; ++c) {
         const NavPoint p{g.n0 + (r + 0.5) * g.cell, g.e0 + (c + 0.5) * g.cell};
-        if (blocked_at(p)) g.blocked[static_cast<std::size_t>(r * g.cols + c)] = 1;
+        if (blocked_at(p)) {
+          g.blocked[static_cast<std::size_t>(r) * static_cast<std::size_t>(g.cols) +
+                    static_cast<std::size_t>(c)] = 1;
+        }
       }
     }
   };
   for (const Buoy& b : world.buoys) {
     const double reach = b.radius_m + inflate;
+    const double reach2 = reach * reach;
     mark(b.center.north_m - reach, b.center.north_m + reach, b.center.east_m - reach,
-         b.center.east_m + reach,
-         [&](NavPoint p) { return core::distance_m(p, b.center) < reach; });
+         b.center.east_m + reach, [&](NavPoint p) {
+           const double dn = p.north_m - b.center.north_m;
+           const double de = p.east_m - b.center.east_m;
+           return dn * dn + de * de < reach2;
+         });
   }
   for (const auto& segment : segments) {
     const NavPoint a = segment.first;  // clang 14 cannot capture structured bindings
@@ -403,28 +422,36 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
          std::min(a.east_m, b.east_m) - inflate, std::max(a.east_m, b.east_m) + inflate,
          [&](NavPoint p) { return point_segment_distance(p, a, b) < inflate; });
   }
-  std::vector<std::uint8_t> seen(g.blocked.size(), 0);
   const int start = g.index(world.start.position);
   if (start < 0 || g.blocked[static_cast<std::size_t>(start)] != 0) {
     if (why != nullptr) *why = "the start has no clearance for the hull";
     return false;
   }
-  std::deque<int> queue{start};
-  seen[static_cast<std::size_t>(start)] = 1;
-  while (!queue.empty()) {
-    const int i = queue.front();
-    queue.pop_front();
-    const int r = i / g.cols;
-    const int c = i % g.cols;
-    const int nb[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
-    for (const auto& d : nb) {
-      const int rr = r + d[0];
-      const int cc = c + d[1];
-      if (rr < 0 || cc < 0 || rr >= g.rows || cc >= g.cols) continue;
-      const auto j = static_cast<std::size_t>(rr * g.cols + cc);
-      if (seen[j] != 0 || g.blocked[j] != 0) continue;
-      seen[j] = 1;
-      queue.push_back(static_cast<int>(j));
+  // Scanline flood fill from the start (4-connected): each free run of a row is filled at once
+  // and seeds the free runs above and below it, so memory stays small and access sequential.
+  std::uint8_t* const cells = g.blocked.data();
+  const auto at = [&](int r, int c) -> std::uint8_t& {
+    return cells[static_cast<std::size_t>(r) * static_cast<std::size_t>(g.cols) +
+                 static_cast<std::size_t>(c)];
+  };
+  std::vector<std::pair<int, int>> seeds{{start / g.cols, start % g.cols}};
+  while (!seeds.empty()) {
+    const auto [r, c] = seeds.back();
+    seeds.pop_back();
+    if (at(r, c) != 0) continue;
+    int lo = c;
+    while (lo > 0 && at(r, lo - 1) == 0) --lo;
+    int hi = c;
+    while (hi + 1 < g.cols && at(r, hi + 1) == 0) ++hi;
+    for (int k = lo; k <= hi; ++k) at(r, k) = 2;
+    for (const int rr : {r - 1, r + 1}) {
+      if (rr < 0 || rr >= g.rows) continue;
+      bool in_run = false;
+      for (int k = lo; k <= hi; ++k) {
+        const bool free = at(rr, k) == 0;
+        if (free && !in_run) seeds.emplace_back(rr, k);
+        in_run = free;
+      }
     }
   }
   auto reachable = [&](NavPoint p, const std::string& name) {
@@ -432,7 +459,7 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
     for (double dn = -0.3; dn <= 0.3; dn += g.cell) {
       for (double de = -0.3; de <= 0.3; de += g.cell) {
         const int i = g.index({p.north_m + dn, p.east_m + de});
-        if (i >= 0 && seen[static_cast<std::size_t>(i)] != 0) return true;
+        if (i >= 0 && cells[static_cast<std::size_t>(i)] == 2) return true;
       }
     }
     if (why != nullptr) *why = name + " cannot be reached with the hull's clearance";
@@ -463,6 +490,19 @@ bool course_is_solvable(const World& world, double beam_m, double margin_m, std:
     }
   }
   return true;
+}
+
+Course check_course_file(const std::string& path, config::ConfigErrors& errors, double beam_m,
+                         double margin_m) {
+  Course c = load_course_file(path, errors);
+  std::string why;
+  if (errors.empty() && !course_is_solvable(c.world, beam_m, margin_m, &why)) {
+    char hull[96];
+    (void)std::snprintf(hull, sizeof hull,
+                        "not solvable for a %.1f m hull with %.1f m margins: ", beam_m, margin_m);
+    errors.add({path, 0, "", hull + why});
+  }
+  return c;
 }
 
 Course generate_course(CourseKind kind, std::uint64_t seed, const GeneratorParams& params) {

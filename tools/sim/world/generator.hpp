@@ -63,7 +63,18 @@ Course generate_course(CourseKind kind, std::uint64_t seed, const GeneratorParam
 /// a boat that simply steered at each goal would run into something.
 bool straight_line_blocked(const World& world, double clearance_m);
 
+/// The largest grid course_is_solvable() fills: 100 million 0.1 m cells (1 km x 1 km, 100 MB).
+/// A course spanning more is refused with the reason, not checked.
+inline constexpr std::size_t kMaxSolvableCells = 100'000'000;
+
 bool course_is_solvable(const World& world, double beam_m, double margin_m,
                         std::string* why = nullptr);
+
+/// `coxswain-sim course check`: the file loaded and validated (load_course_file), then proved
+/// solvable for a hull of `beam_m` with `margin_m` each side. Problems go to `errors`. Linear in
+/// the obstacles and in the area the course spans (bounded by kMaxCourseObstacles and
+/// kMaxSolvableCells).
+Course check_course_file(const std::string& path, config::ConfigErrors& errors, double beam_m = 0.8,
+                         double margin_m = 0.3);
 
 }  // namespace coxswain::sim::world

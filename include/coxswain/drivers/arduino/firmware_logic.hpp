@@ -147,7 +147,7 @@ class FirmwareLogic {
   /// Decides the outputs at `now_ms` (call every loop, at least every few ms).
   LogicOutputs step(uint32_t now_ms, const SwitchInputs& in) {
     update_freshness(now_ms);
-    LogicOutputs out;
+    LogicOutputs out{};
     out.led = cmd_.led;
     out.failsafe = !cmd_fresh_;
     out.armed = cmd_fresh_ && (cmd_.flags & kFlagArm) != 0;
@@ -275,19 +275,19 @@ class FirmwareLogic {
   }
 
   LogicConfig config_;
-  uint32_t boot_ms_;
-  bool boot_hold_;
-  bool cmd_fresh_;
-  uint32_t cmd_ms_;
-  bool have_seq_;
-  uint16_t last_seq_;
-  SetOutputs cmd_;
-  bool rc_fresh_[kRcChannels];
-  uint32_t rc_ms_[kRcChannels];
-  uint16_t rc_pulse_us_[kRcChannels];
-  bool rc_was_present_;
-  bool mode_auto_;
-  LogicCounters counters_;
+  uint32_t boot_ms_ = 0;
+  bool boot_hold_ = false;
+  bool cmd_fresh_ = false;
+  uint32_t cmd_ms_ = 0;
+  bool have_seq_ = false;
+  uint16_t last_seq_ = 0;
+  SetOutputs cmd_{};
+  bool rc_fresh_[kRcChannels]{};
+  uint32_t rc_ms_[kRcChannels]{};
+  uint16_t rc_pulse_us_[kRcChannels]{};
+  bool rc_was_present_ = false;
+  bool mode_auto_ = false;
+  LogicCounters counters_{};
 };
 
 }  // namespace arduino

@@ -479,11 +479,11 @@ class FrameDecoder {
     }
   }
 
-  uint8_t buf_[kMaxFrame];
+  uint8_t buf_[kMaxFrame]{};
   uint8_t n_;
   uint8_t pending_drop_;
-  Frame frame_;
-  DecoderStats stats_;
+  Frame frame_{};
+  DecoderStats stats_{};
 };
 
 }  // namespace arduino

@@ -39,7 +39,7 @@ struct ScanAssemblerParams {
   bool keep_no_return = true;
 
   /// Empty when valid, else what is wrong.
-  [[nodiscard]] std::string validate() const;
+  [[nodiscard]] std::optional<std::string> validate() const;
 };
 
 /// Accumulates HQ nodes into revolutions. Fixed arrays (two LidarScans, ~130 kB: allocate the

@@ -188,6 +188,7 @@ class Decoder {
     bool have_velned = false;
     double vel_ned_mps[3] = {0.0, 0.0, 0.0};
     double ground_speed_mps = 0.0, course_deg = 0.0;
+    double s_acc_mps = -1.0;  // NAV-VELNED's or NAV-SOL's speed accuracy
     bool have_ecef_vel = false;
     double ecef_vel_mps[3] = {0.0, 0.0, 0.0};
     bool have_week = false;

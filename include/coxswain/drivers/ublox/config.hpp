@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "coxswain/drivers/ublox/codec.hpp"
@@ -107,7 +108,7 @@ struct ConfigParams {
   bool nmea_enabled = false;  // keep GGA/RMC on the port (for other listeners / debugging)
 
   /// nullopt if valid for `gen`, otherwise a message naming the bad field.
-  [[nodiscard]] std::optional<std::string_view> validate(Generation gen) const;
+  [[nodiscard]] std::optional<std::string> validate(Generation gen) const;
   /// Measurement period in ms for rate_hz (rounded), as sent to the receiver.
   [[nodiscard]] std::uint16_t meas_period_ms() const;
 };

@@ -10,8 +10,10 @@
 // device thread. Live inputs drop a frame when the queue is full: stale corrections are useless.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 
 #include "coxswain/core/time.hpp"
@@ -35,6 +37,10 @@ struct RtcmSourceStats {
 struct RtcmSourceOptions {
   core::TimeNs backoff_initial_ns = 100 * core::kNsPerMs;
   core::TimeNs backoff_max_ns = 5 * core::kNsPerSec;
+  /// Told, on the reader thread, why the input cannot be read ("cannot connect to
+  /// caster:2101: Connection refused") once per distinct reason, not at every retry, and
+  /// "connected"/"opened" when it can be read again after a problem. May be empty.
+  std::function<void(bool problem, std::string_view what)> on_event;
 };
 
 /// Owns one reader thread. Thread-safety: start/stop from one owner thread; stats() from any

@@ -139,7 +139,7 @@ TEST(CameraDriver, NewHsvRangesAreTakenBeforeTheNextFrame) {
   auto& hsv = blind.colours[static_cast<std::size_t>(purple)].hsv;
   hsv.h_min = 60;  // green hues: the purple buoy no longer matches
   hsv.h_max = 70;
-  ASSERT_EQ(blind.validate(), "");
+  ASSERT_FALSE(blind.validate().has_value());
   driver.set_vision(blind);
   // Two frames after the request have been processed with the new box.
   auto next_two_frames = [&] {

@@ -47,7 +47,7 @@ TEST(RplidarScanAssembler, SeamIsAsternWhateverTheMount) {
     p.clockwise = c.clockwise;
     p.max_range_m = 40.0F;
     p.sample_duration_us = 250.0;
-    ASSERT_TRUE(p.validate().empty());
+    ASSERT_FALSE(p.validate().has_value());
     auto a = std::make_unique<ScanAssembler>(p);
     int emitted = 0;
     const int per_rev = 720;

@@ -90,6 +90,7 @@ TEST(UbloxDecoder, NavPvtWorkedExample) {
   EXPECT_NEAR(f.vel_north_mps, -0.010, 1e-9);  // f6ffffff
   EXPECT_NEAR(f.vel_east_mps, -0.028, 1e-9);   // e4ffffff
   EXPECT_NEAR(f.vel_down_mps, 0.038, 1e-9);    // 26000000
+  EXPECT_NEAR(f.s_acc_mps, 0.229, 1e-9);       // sAcc e5000000 mm/s
   EXPECT_TRUE(f.velocity_valid);
   // 2017-07-19 08:50:00 UTC + nano 0x2FAD8027 = 799899687 ns.
   EXPECT_EQ(f.utc_ns, 1500454200LL * 1'000'000'000LL + 799'899'687LL);
@@ -483,6 +484,7 @@ TEST(UbloxDecoder, OlderNavMessagesOfOneEpochMergeIntoOneFix) {
   test::put_le(velned, 8, -200, 4);         // east
   test::put_le(velned, 20, 250, 4);         // ground speed
   test::put_le(velned, 24, 30'687'000, 4);  // heading 306.87 deg
+  test::put_le(velned, 28, 40, 4);          // sAcc cm/s
   std::vector<std::uint8_t> bytes;
   for (const auto& f : {ubx(0x02, posllh), ubx(0x03, status), ubx(0x12, velned)}) {
     bytes.insert(bytes.end(), f.begin(), f.end());
@@ -505,6 +507,7 @@ TEST(UbloxDecoder, OlderNavMessagesOfOneEpochMergeIntoOneFix) {
   EXPECT_DOUBLE_EQ(f.h_acc_m, 1.5);
   EXPECT_DOUBLE_EQ(f.ground_speed_mps, 2.5);
   EXPECT_NEAR(f.course_deg, -53.13, 1e-9);
+  EXPECT_DOUBLE_EQ(f.s_acc_mps, 0.4);
   EXPECT_TRUE(f.velocity_valid);
   EXPECT_EQ(d.stats().framing_errors, 0U);
 }
@@ -520,6 +523,7 @@ TEST(UbloxDecoder, NavSolAloneGivesPositionFromEcefAndUtcFromTheWeek) {
   test::put_le(sol, 16, -392'218'940, 4);
   test::put_le(sol, 20, 441'436'102, 4);
   test::put_le(sol, 24, 99, 4);
+  test::put_le(sol, 40, 35, 4);  // sAcc cm/s
   sol[47] = 18;
   Decoder d;
   const auto out = test::decode_all(d, ubx(0x06, sol));
@@ -530,6 +534,7 @@ TEST(UbloxDecoder, NavSolAloneGivesPositionFromEcefAndUtcFromTheWeek) {
   EXPECT_NEAR(f.lon_deg, -121.314317437, 1e-8);
   EXPECT_EQ(f.fix_type, msg::FixType::kTimeOnly);
   EXPECT_EQ(f.satellites, 18U);
+  EXPECT_DOUBLE_EQ(f.s_acc_mps, 0.35);
   // 2019-02-07T02:15:17Z: GPS week 2039, 353735 s, less 18 leap seconds.
   EXPECT_EQ(f.utc_ns, 1549505717LL * 1'000'000'000LL);
 }

@@ -21,6 +21,7 @@
 
 #include "coxswain/core/angles.hpp"
 #include "coxswain/drivers/ublox/codec.hpp"
+#include "support/run_command.hpp"
 #include "support/testdata.hpp"
 #include "ublox_test_util.hpp"
 
@@ -53,16 +54,9 @@ std::vector<std::uint8_t> read_gpsd_log(const std::filesystem::path& p) {
 }
 
 std::vector<std::uint8_t> gunzip(const std::filesystem::path& p) {
-  std::vector<std::uint8_t> out;
-  const std::string cmd = "gzip -dc '" + p.string() + "'";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return out;
-  std::array<std::uint8_t, 65536> buf{};
-  std::size_t n = 0;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) {
-    out.insert(out.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
-  }
-  EXPECT_EQ(pclose(pipe), 0) << cmd;
+  bool ok = false;
+  std::vector<std::uint8_t> out = coxswain::test::gunzip(p, &ok);
+  EXPECT_TRUE(ok) << "gzip -dc " << p;
   return out;
 }
 

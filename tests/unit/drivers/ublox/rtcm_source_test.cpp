@@ -16,8 +16,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "coxswain/drivers/ublox/codec.hpp"
@@ -162,6 +165,42 @@ TEST(RtcmSource, TcpRetriesWhileNoServerListens) {
   ASSERT_EQ(got.size(), 1U);
   EXPECT_EQ(got[0], a);
   src.stop();
+}
+
+// A refused connection is told once however often it is retried, and the recovery once.
+TEST(RtcmSource, ARefusedConnectionIsToldOnceAndTheRecoveryOnce) {
+  asio::io_context io;
+  std::uint16_t port = 0;
+  {
+    asio::ip::tcp::acceptor probe(io, {asio::ip::make_address("127.0.0.1"), 0});
+    port = probe.local_endpoint().port();
+  }
+  RtcmQueue q;
+  std::mutex mutex;
+  std::vector<std::pair<bool, std::string>> events;
+  RtcmSourceOptions opt;
+  opt.backoff_initial_ns = 10 * core::kNsPerMs;
+  opt.backoff_max_ns = 20 * core::kNsPerMs;
+  opt.on_event = [&](bool problem, std::string_view what) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    events.emplace_back(problem, std::string(what));
+  };
+  RtcmSource src("tcp://127.0.0.1:" + std::to_string(port), q, opt);
+  src.start();
+  ASSERT_TRUE(wait_until([&] { return src.stats().failures >= 5; }, std::chrono::seconds(10)));
+  asio::ip::tcp::acceptor acceptor(io, {asio::ip::make_address("127.0.0.1"), port});
+  asio::ip::tcp::socket peer(io);
+  acceptor.accept(peer);
+  ASSERT_TRUE(wait_until([&] { return src.stats().connects >= 1; }, std::chrono::seconds(10)));
+  src.stop();
+  const std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_EQ(events.size(), 2U);
+  EXPECT_TRUE(events[0].first);
+  EXPECT_NE(events[0].second.find("cannot connect to 127.0.0.1:" + std::to_string(port)),
+            std::string::npos)
+      << events[0].second;
+  EXPECT_FALSE(events[1].first);
+  EXPECT_NE(events[1].second.find("connected"), std::string::npos) << events[1].second;
 }
 
 std::filesystem::path temp_path(const std::string& name) {

@@ -37,7 +37,24 @@ ObstacleList list_of(std::initializer_list<ObstacleSegment> segs) {
   return l;
 }
 
-Avoidance make(Strategy s, AvoidanceParams p = {}) {
+// The plain reactive engine these behaviour tests were written for: no swept hull, an 8 m view,
+// the 2022 plan's 8 deg / 1.5 s hysteresis and its slow-down, a 0.45 m half-beam with 0.35 m of
+// clearance. (The defaults are the tuned values a mission ships: 5 m, swept hull, 15 deg / 3 s,
+// no slow-down, the hull from boat.yaml.)
+AvoidanceParams plain_params() {
+  AvoidanceParams p;
+  p.detection_range_m = 8.0;
+  p.sweep_enabled = false;
+  p.hysteresis_deg = 8.0;
+  p.hold_time_s = 1.5;
+  p.min_speed_factor = 0.35;
+  p.half_beam_m = 0.45;
+  p.clearance_m = 0.35;
+  p.sweep_clearance_m = 0.15;
+  return p;
+}
+
+Avoidance make(Strategy s, AvoidanceParams p = plain_params()) {
   p.strategy = s;
   std::string err;
   auto a = Avoidance::create(p, &err);
@@ -55,16 +72,16 @@ constexpr Strategy kOurs[] = {Strategy::kSelection, Strategy::kScore, Strategy::
 constexpr core::TimeNs kTick = 100 * core::kNsPerMs;
 
 TEST(AvoidanceParams, ValidateAndNames) {
-  EXPECT_EQ(AvoidanceParams{}.validate(), "");
-  AvoidanceParams p;
+  EXPECT_FALSE(AvoidanceParams{}.validate().has_value());
+  AvoidanceParams p = plain_params();
   p.shrink_factor = 1.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.min_detection_range_m = 20.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.risk_threshold = 10.0;  // above e^1.5: never unsafe
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   EXPECT_FALSE(Avoidance::create(p).has_value());
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
                            Strategy::kSelectionNaive2022}) {
@@ -97,7 +114,7 @@ TEST(Avoidance, GoalOutsideTheFanSteersAtTheNearestEdge) {
 }
 
 TEST(Avoidance, EveryStrategyAvoidsABuoyOnTheGoalLineWithHullClearance) {
-  const AvoidanceParams p;
+  const AvoidanceParams p = plain_params();
   const double hull = p.half_beam_m + p.clearance_m;
   for (const Strategy s : kOurs) {
     Avoidance a = make(s);
@@ -138,7 +155,7 @@ TEST(Avoidance, ScoreGradesDangerAndBlocksNearObstacles) {
 // ---- Each defect of the 2022 code: a case the naive version fails and ours passes. ----
 
 TEST(Defects, WallSpanningTheWholeFanWithEndsOutsideIt) {
-  AvoidanceParams p;
+  AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
   // 2 m ahead, first point 5.4 m away (in range), both ends at +-68 deg: outside the fan.
   const auto wall = list_of({seg(2.0, -5.0, 2.0, 5.0)});
@@ -181,7 +198,7 @@ TEST(Defects, AllBlockedSlowsShrinksThenStopsOrBacksOff) {
     EXPECT_EQ(d.status, AvoidanceStatus::kBlockedStop) << to_string(s);
     EXPECT_DOUBLE_EQ(d.speed_factor, 0.0);
     EXPECT_GT(d.shrink_steps, 0);
-    AvoidanceParams p;
+    AvoidanceParams p = plain_params();
     p.all_blocked_policy = AllBlockedPolicy::kBackOff;
     Avoidance b = make(s, p);
     const auto e = b.decide(pocket, 10.0, 0);
@@ -191,7 +208,7 @@ TEST(Defects, AllBlockedSlowsShrinksThenStopsOrBacksOff) {
 }
 
 TEST(Defects, AllBlockedAtFullRangeShrinksAndSlows) {
-  AvoidanceParams p;
+  AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
   const auto wall = list_of({seg(3.0, -20.0, 3.0, 20.0)});
   Avoidance a = make(Strategy::kSelection, p);
@@ -205,7 +222,7 @@ TEST(Defects, AllBlockedAtFullRangeShrinksAndSlows) {
 TEST(Defects, ShrinkingFindsTheGapBetweenNearBuoysUnderAFarWall) {
   // A wall 4 m ahead closes every bin at 8 m; near buoys at +-30 deg leave a gap ahead once the
   // range is shrunk. The goal is at 20 deg: steer into the gap, at the side nearest the goal.
-  AvoidanceParams p;
+  AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
   const auto l = list_of({seg(4.0, -20.0, 4.0, 20.0), buoy(2.5, -30.0, 0.1), buoy(2.5, 30.0, 0.1)});
   Avoidance a = make(Strategy::kSelection, p);
@@ -216,7 +233,7 @@ TEST(Defects, ShrinkingFindsTheGapBetweenNearBuoysUnderAFarWall) {
 }
 
 TEST(Defects, MarginGrowsNearAndShrinksFar) {
-  const AvoidanceParams p;
+  const AvoidanceParams p = plain_params();
   const double hull = p.half_beam_m + p.clearance_m;
   // Near: the naive fixed 10 deg passes a buoy 1.5 m ahead closer than the half beam.
   const auto near = list_of({buoy(1.5, 0.0, 0.0)});
@@ -248,7 +265,7 @@ TEST(Defects, ExactTieHasNoLeftBias) {
   Avoidance naive2 = make(Strategy::kSelectionNaive2022);
   EXPECT_EQ(naive2.decide(port_cluttered, 0.0, 0).side, Side::kPort);  // defect
   for (const Strategy s : kOurs) {
-    AvoidanceParams p;
+    AvoidanceParams p = plain_params();
     p.risk_threshold = 1e-5;  // risk bins see 6 m too
     Avoidance a = make(s, p);
     EXPECT_EQ(a.decide(port_cluttered, 0.0, 0).side, Side::kStarboard) << to_string(s);
@@ -316,7 +333,7 @@ TEST(Avoidance, ForgetsTheSideAfterBeingClear) {
 // ---- Swept hull: the stern swings out of a turn (sensors at the bow, thruster at the stern). ----
 
 AvoidanceParams swept() {
-  AvoidanceParams p;
+  AvoidanceParams p = plain_params();
   p.sweep_enabled = true;
   return p;
 }
@@ -387,18 +404,18 @@ TEST(SweptHull, NoArcLeftFallsBackToTheRaysInsteadOfStoppingForGood) {
   }
 }
 
-TEST(SweptHull, OffByDefaultAndRejectsBadGeometry) {
-  EXPECT_FALSE(AvoidanceParams{}.sweep_enabled);
+TEST(SweptHull, OnByDefaultAndRejectsBadGeometry) {
+  EXPECT_TRUE(AvoidanceParams{}.sweep_enabled);
   AvoidanceParams p = swept();
-  EXPECT_EQ(p.validate(), "");
+  EXPECT_FALSE(p.validate().has_value());
   p.bow_ahead_m = 2.0;  // longer than the hull
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = swept();
   p.sweep_step_deg = 0.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = swept();
   p.sweep_turn_radius_m = -1.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   // No obstacles: nothing is refused.
   Avoidance a = make(Strategy::kScore, swept());
   const auto d = a.decide(ObstacleList{}, -80.0, 0);
@@ -410,7 +427,7 @@ TEST(SweptHull, OffByDefaultAndRejectsBadGeometry) {
 TEST(Avoidance, Deterministic) {
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin,
                            Strategy::kSelectionNaive2022}) {
-    AvoidanceParams p;
+    AvoidanceParams p = plain_params();
     p.sweep_enabled = s != Strategy::kRiskBin;  // with and without the swept hull
     Avoidance a = make(s, p);
     Avoidance b = make(s, p);
@@ -441,7 +458,7 @@ TEST(Avoidance, ReusedGeometryDecidesAsFreshGeometry) {
   std::reverse(reversed.segments.begin(), reversed.segments.begin() + reversed.count);
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin}) {
     for (const bool sweep : {false, true}) {
-      AvoidanceParams p;
+      AvoidanceParams p = plain_params();
       p.sweep_enabled = sweep;
       Avoidance kept = make(s, p);
       Avoidance fresh = make(s, p);

@@ -54,8 +54,8 @@ TEST(OccupancyGrid, ValidatesParams) {
   EXPECT_FALSE(OccupancyGrid::create(p).has_value());
   p = params();
   p.decay_per_update = 1.0F;
-  EXPECT_NE(p.validate(), "");
-  EXPECT_EQ(params().validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
+  EXPECT_FALSE(params().validate().has_value());
 }
 
 TEST(OccupancyGrid, MarksBodyFrameSegmentsInTheNavigationFrameAndInflates) {

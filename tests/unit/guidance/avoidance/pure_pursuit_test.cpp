@@ -16,7 +16,7 @@ using core::NavPoint;
 TEST(PurePursuit, EmptyPathIsInvalid) {
   PurePursuit pp({});
   EXPECT_FALSE(pp.update({}, {}).valid);
-  EXPECT_NE((PurePursuitParams{-1.0, 1.0}).validate(), "");
+  EXPECT_TRUE((PurePursuitParams{-1.0, 1.0}).validate().has_value());
 }
 
 TEST(PurePursuit, OnAStraightPathAheadIsStraight) {

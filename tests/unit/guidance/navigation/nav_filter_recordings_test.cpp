@@ -22,22 +22,16 @@
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/drivers/ublox/codec.hpp"
 #include "coxswain/guidance/nav_filter.hpp"
+#include "support/run_command.hpp"
 #include "support/testdata.hpp"
 
 namespace coxswain::guidance {
 namespace {
 
 std::vector<std::uint8_t> gunzip(const std::filesystem::path& p) {
-  std::vector<std::uint8_t> out;
-  const std::string cmd = "gzip -dc '" + p.string() + "'";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return out;
-  std::array<std::uint8_t, 65536> buf{};
-  std::size_t n = 0;
-  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) {
-    out.insert(out.end(), buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n));
-  }
-  EXPECT_EQ(pclose(pipe), 0) << cmd;
+  bool ok = false;
+  std::vector<std::uint8_t> out = coxswain::test::gunzip(p, &ok);
+  EXPECT_TRUE(ok) << "gzip -dc " << p;
   return out;
 }
 

@@ -154,6 +154,25 @@ TEST(NavFilter, AFiveMetreGnssJumpIsRefusedAndDoesNotPullTheEstimate) {
   EXPECT_LT(worst_after, before + 0.5);
 }
 
+TEST(NavFilter, AReceiverReportingAPoorSpeedAccuracyHasItsVelocityTrustedLess) {
+  const auto velocity_variance = [](double s_acc_mps) {
+    NavFilter f;
+    msg::GnssFix q;
+    q.fix_ok = true;
+    q.fix_type = msg::FixType::k3D;
+    q.h_acc_m = 1.0;
+    q.velocity_valid = true;
+    q.vel_north_mps = 1.0;
+    q.s_acc_mps = s_acc_mps;
+    EXPECT_EQ(f.add_fix(0, {0.0, 0.0}, q), NavUpdate::kUsed);
+    return f.covariance()(NavFilter::kVn, NavFilter::kVn);
+  };
+  const double floor = NavFilterParams{}.gnss_velocity_sigma_mps;
+  EXPECT_DOUBLE_EQ(velocity_variance(-1.0), floor * floor);  // unknown: the configured sigma
+  EXPECT_DOUBLE_EQ(velocity_variance(0.01), floor * floor);  // never below the floor
+  EXPECT_NEAR(velocity_variance(2.0), 2.0, 1e-12);           // (2 / sqrt 2)^2 per axis
+}
+
 TEST(NavFilter, AnOutageIsBridgedByDeadReckoningWithAGrowingCovariance) {
   NavFilter f;
   Scenario sc;

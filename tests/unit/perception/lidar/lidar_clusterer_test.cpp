@@ -127,26 +127,26 @@ double off_line_m(const ObstacleSegment& s, BodyPoint p) {
 }
 
 TEST(LidarClusterParams, DefaultsAndReferenceAreValid) {
-  EXPECT_EQ(LidarClusterParams{}.validate(), "");
-  EXPECT_EQ(LidarClusterParams::reference_tricat2022().validate(), "");
+  EXPECT_FALSE(LidarClusterParams{}.validate().has_value());
+  EXPECT_FALSE(LidarClusterParams::reference_tricat2022().validate().has_value());
 }
 
 TEST(LidarClusterParams, RejectsBadValues) {
   LidarClusterParams p;
   p.min_range_m = 30.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   EXPECT_THROW(LidarClusterer{p}, std::invalid_argument);
   p = {};
   p.profile_bin_width_deg = 0.25;  // 1440 bins > kMaxBins
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p.profile_bin_width_deg = 0.7;  // does not divide 360
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.wall_piece_max_length_m = 0.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.group_gap_m = std::nan("");
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
 }
 
 TEST(LidarClusterer, EmptyScanGivesNothing) {

@@ -50,7 +50,7 @@ TEST(MarkerVote, WindowEdgeIsExclusiveOfOldVotes) {
   p.min_frames = 1;
   p.min_span_ns = 0;
   p.min_ratio = 0.5;
-  ASSERT_EQ(p.validate(), "");
+  ASSERT_FALSE(p.validate().has_value());
   MarkerVote vote(p);
   vote.add(0, true);
   vote.add(500 * kNsPerMs, false);
@@ -103,15 +103,15 @@ TEST(MarkerVote, RingWrapKeepsTheMostRecentVotes) {
 
 TEST(MarkerVote, ValidateCatchesBadParams) {
   MarkerVoteParams p;
-  EXPECT_EQ(p.validate(), "");
+  EXPECT_FALSE(p.validate().has_value());
   p.min_ratio = 0.0;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.min_frames = MarkerVote::kCapacity + 1;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
   p = {};
   p.min_span_ns = p.window_ns;
-  EXPECT_NE(p.validate(), "");
+  EXPECT_TRUE(p.validate().has_value());
 }
 
 }  // namespace

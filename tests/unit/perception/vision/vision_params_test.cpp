@@ -50,25 +50,25 @@ TEST(HsvRange, RedWrapsThrough180) {
 
 TEST(VisionParams, DefaultsValidAndValidateCatchesErrors) {
   VisionParams p = VisionParams::defaults();
-  EXPECT_EQ(p.validate(), "");
+  EXPECT_FALSE(p.validate().has_value());
   EXPECT_GE(p.find_colour(msg::Colour::kPurple), 0);
   EXPECT_GE(p.find_colour(msg::Colour::kBlack), 0);
   EXPECT_EQ(p.find_colour(msg::Colour::kWhite), -1);
   VisionParams bad = p;
   bad.hfov_deg = 0.0;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
   bad = p;
   bad.colours[0].hsv.h_max = 200;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
   bad = p;
   bad.blur_kernel_px = 4;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
   bad = p;
   bad.min_area_fraction = 0.0;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
   bad = p;
   bad.shape.rectangle_min_extent = 0.5;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
   while (p.add_colour({msg::Colour::kWhite, {}, true, true})) {
   }
   EXPECT_EQ(p.colour_count, VisionParams::kMaxColours);

@@ -53,11 +53,11 @@ TEST(LidarSim, ModelFigures) {
   EXPECT_EQ(LidarSimConfig::for_model(LidarModel::kS2).beams_per_revolution(), 3200);
   for (auto m :
        {LidarModel::kA1, LidarModel::kA2M8, LidarModel::kA3, LidarModel::kS2, LidarModel::kC1}) {
-    EXPECT_EQ(LidarSimConfig::for_model(m).validate(), "");
+    EXPECT_FALSE(LidarSimConfig::for_model(m).validate().has_value());
   }
   LidarSimConfig bad = a2;
   bad.max_range_m = 0.1;
-  EXPECT_NE(bad.validate(), "");
+  EXPECT_TRUE(bad.validate().has_value());
 }
 
 TEST(LidarSim, StationaryRoomSternMountedLidarGivesBodyFrameRanges) {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <utility>
 
-#include "sim/sensors/rng.hpp"
+#include "sim/rng/rng.hpp"
 #include "sim/world/course.hpp"
 #include "sim/world/world.hpp"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "sim/sensors/rng.hpp"
+#include "sim/rng/rng.hpp"
 
 #include <gtest/gtest.h>
 

@@ -13,7 +13,7 @@ TEST(SensorConfig, SampleFileLoadsWithEveryKeyKnown) {
   const std::string path = std::string(COXSWAIN_SOURCE_DIR) + "/config/sim/sensors.yaml";
   const std::optional<SensorConfig> c = load_sensor_config_file(path, errors);
   ASSERT_TRUE(c.has_value()) << errors.format();
-  EXPECT_EQ(c->validate(), "");
+  EXPECT_FALSE(c->validate().has_value());
   EXPECT_EQ(c->lidar.beams_per_revolution(), 800);
   EXPECT_DOUBLE_EQ(c->lidar.mount.yaw_deg, 180.0);
   EXPECT_DOUBLE_EQ(c->gnss.mount.x_m, -0.6);
@@ -57,25 +57,25 @@ TEST(SensorConfig, NodeOverloadAndDefaults) {
   EXPECT_TRUE(errors.empty()) << errors.format();
   EXPECT_EQ(c.seed, 9U);
   EXPECT_DOUBLE_EQ(c.imu.rate_hz, 50.0);
-  EXPECT_EQ(c.validate(), "");
+  EXPECT_FALSE(c.validate().has_value());
   EXPECT_EQ(c.lidar.model, LidarModel::kA2M8);
   EXPECT_EQ(c.imu.seed, derive_seed(9, 3));
 }
 
 TEST(SensorConfig, ValidateRejectsBadValues) {
   SensorConfig c;
-  EXPECT_EQ(c.validate(), "");
+  EXPECT_FALSE(c.validate().has_value());
   c.gnss.bias_mean_m = 12.0;  // above bias_max_m
-  EXPECT_NE(c.validate(), "");
+  EXPECT_TRUE(c.validate().has_value());
   c = SensorConfig{};
   c.imu.declination_deg = 100.0;
-  EXPECT_NE(c.validate(), "");
+  EXPECT_TRUE(c.validate().has_value());
   c = SensorConfig{};
   c.camera.blur_kernel_px = 4;
-  EXPECT_NE(c.validate(), "");
+  EXPECT_TRUE(c.validate().has_value());
   c = SensorConfig{};
   c.lidar.spurious_max_range_m = 50.0;
-  EXPECT_NE(c.validate(), "");
+  EXPECT_TRUE(c.validate().has_value());
 }
 
 TEST(SensorConditions, ACourseFilesValuesWinAndTheOthersAreLeftAlone) {
@@ -95,7 +95,7 @@ TEST(SensorConditions, ACourseFilesValuesWinAndTheOthersAreLeftAlone) {
   EXPECT_DOUBLE_EQ(c.gnss.bias_max_m, 8.0 + 2.0 * c.gnss.bias_wander_sigma_m);
   EXPECT_TRUE(c.camera.glare);
   EXPECT_DOUBLE_EQ(c.camera.sun_bearing_deg, 270.0);
-  EXPECT_EQ(c.validate(), "");
+  EXPECT_FALSE(c.validate().has_value());
   k.gnss_bias_max_m = 9.0;
   apply_conditions(k, c);
   EXPECT_DOUBLE_EQ(c.gnss.bias_max_m, 9.0);

@@ -3,6 +3,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <unistd.h>
 
 #include "sim/world/generator.hpp"
 
@@ -170,6 +173,69 @@ TEST(Clearance, NarrowDockIsRejected) {
   std::string why;
   EXPECT_FALSE(course_is_solvable(w, 0.8, 0.3, &why));
   EXPECT_NE(why.find("narrower"), std::string::npos);
+}
+
+// A lattice of `rows` x `cols` buoys `spacing_m` apart (at 4 m, 2 m of water between buoys
+// inflated for a 0.8 m hull with 0.3 m margins), the start outside its first corner and a
+// waypoint in its middle, reached only through the gaps.
+Course buoy_lattice(int rows, int cols, double spacing_m = 4.0) {
+  Course c;
+  World& w = c.world;
+  w.name = "lattice";
+  w.kind = CourseKind::kObstacle;
+  w.origin = {35.0, 128.0, 0.0};
+  w.start.position = {-5.0, -5.0};
+  for (int r = 0; r < rows; ++r) {
+    for (int k = 0; k < cols; ++k) {
+      Buoy b;
+      b.center = {r * spacing_m, k * spacing_m};
+      b.radius_m = 0.3;
+      w.buoys.push_back(b);
+    }
+  }
+  w.waypoints.push_back(
+      {"middle", {(rows / 2 + 0.5) * spacing_m, (cols / 2 + 0.5) * spacing_m}, 1.0});
+  return c;
+}
+
+// `coxswain-sim course check` on 20,000 buoys: loaded, validated and proved solvable (the check
+// is linear in the obstacles and the area; it took minutes when every point merged the file's
+// node pool into a new one). Its time is printed by the course check benchmark.
+TEST(CourseCheck, ACourseOfTwentyThousandBuoysIsChecked) {
+  const Course lattice = buoy_lattice(100, 200);
+  ASSERT_EQ(lattice.world.buoys.size(), 20'000U);
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("coxswain_lattice_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(path) << to_course_yaml(lattice);
+  config::ConfigErrors errors;
+  const Course checked = check_course_file(path.string(), errors);
+  std::filesystem::remove(path);
+  EXPECT_TRUE(errors.empty()) << errors.format();
+  EXPECT_EQ(checked.world.buoys.size(), 20'000U);
+  EXPECT_NEAR(checked.world.buoys.back().center.north_m, 99 * 4.0, 1e-9);
+}
+
+TEST(CourseCheck, ALatticeTooTightForTheHullIsNotSolvable) {
+  // 1.5 m apart: the inflated buoys (1.0 m reach each) close every gap.
+  std::string why;
+  EXPECT_FALSE(course_is_solvable(buoy_lattice(30, 30, 1.5).world, 0.8, 0.3, &why));
+  EXPECT_NE(why.find("waypoint middle cannot be reached"), std::string::npos) << why;
+}
+
+TEST(CourseCheck, MoreObstaclesThanTheLimitAreRefusedWithTheCount) {
+  const Course c = buoy_lattice(1, static_cast<int>(kMaxCourseObstacles) + 1, 1.0);
+  config::ConfigErrors errors;
+  validate_world(c.world, errors);
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors.format().find("has 50001 obstacles"), std::string::npos) << errors.format();
+}
+
+TEST(CourseCheck, ACourseSpanningMoreThanTheGridIsRefusedWithItsSize) {
+  Course c = buoy_lattice(2, 2);
+  c.world.waypoints.back().position = {3000.0, 3000.0};
+  std::string why;
+  EXPECT_FALSE(course_is_solvable(c.world, 0.8, 0.3, &why));
+  EXPECT_NE(why.find("spans 3005 m x 3005 m"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ std::int64_t nmea_tod_ms(std::span<const std::uint8_t> frame) {
     v[k] = c - '0';
   }
   std::int64_t ms =
-      ((v[0] * 10 + v[1]) * 3600LL + (v[2] * 10 + v[3]) * 60LL + v[4] * 10 + v[5]) * 1000;
+      ((v[0] * 10 + v[1]) * 3600LL + (v[2] * 10 + v[3]) * 60LL + v[4] * 10LL + v[5]) * 1000;
   i += 6;
   if (i < frame.size() && frame[i] == '.') {
     std::int64_t scale = 100;
@@ -542,9 +542,9 @@ void Emulator::emit_nav_pvt() {
   double head = std::fmod(t.course_deg, 360.0);  // the receiver reports 0..360
   if (head < 0.0) head += 360.0;
   put_le(&p[64], std::llround(head * 1e5), 4);
-  put_le(&p[68], 100, 4);                                          // sAcc mm/s
-  put_le(&p[72], 100000, 4);                                       // headAcc 1 deg
-  put_le(&p[76], std::llround(std::max(0.0, t.hdop) * 150.0), 2);  // pDOP ~ 1.5 HDOP
+  put_le(&p[68], t.s_acc_mps >= 0.0 ? std::llround(t.s_acc_mps * 1e3) : 100, 4);  // sAcc mm/s
+  put_le(&p[72], 100000, 4);                                                      // headAcc 1 deg
+  put_le(&p[76], std::llround(std::max(0.0, t.hdop) * 150.0), 2);                 // pDOP ~ 1.5 HDOP
   send_ubx(ub::kNavPvt.msg_class, ub::kNavPvt.msg_id, p, true);
   ++stats_.nav_pvt_sent;
 }
@@ -554,9 +554,10 @@ void Emulator::emit_rmc() {
   Text t;
   const Civil c = civil_from_unix_ns(f.utc_ns);
   t.add("$GNRMC,");
-  if (f.utc_ns != 0)
+  if (f.utc_ns != 0) {
     t.add("%02u%02u%02u.%02lld", c.hour, c.minute, c.second,
           static_cast<long long>(c.nano / 10'000'000));
+  }
   const bool ok = f.usable();
   t.add(",%c,", ok ? 'A' : 'V');
   if (ok) {
@@ -586,9 +587,10 @@ void Emulator::emit_gga() {
   Text t;
   const Civil c = civil_from_unix_ns(f.utc_ns);
   t.add("$GNGGA,");
-  if (f.utc_ns != 0)
+  if (f.utc_ns != 0) {
     t.add("%02u%02u%02u.%02lld", c.hour, c.minute, c.second,
           static_cast<long long>(c.nano / 10'000'000));
+  }
   unsigned quality = 0;
   if (f.usable()) {
     quality = f.rtk == msg::RtkSolution::kFixed            ? 4

@@ -18,9 +18,14 @@
 #include <gtest/gtest.h>
 
 #include "sim/pty/pseudo_terminal.hpp"
+#include "support/temp_dir.hpp"
+#include "support/wait_for.hpp"
 
 namespace coxswain::sim::pty {
 namespace {
+
+using coxswain::test::TempDir;
+using coxswain::test::wait_for;
 
 using namespace std::chrono_literals;
 
@@ -58,21 +63,6 @@ class LineDevice final : public devices::DeviceEmulator {
   std::string out_;
   core::TimeNs next_ns_ = core::kNeverNs;
   std::uint64_t count_ = 0;
-};
-
-class TempDir {
- public:
-  TempDir() {
-    path_ = std::filesystem::temp_directory_path() /
-            ("coxswain_pty_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter_++));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() { std::filesystem::remove_all(path_); }
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  static inline int counter_ = 0;
-  std::filesystem::path path_;
 };
 
 // The host's end: opens the slave in raw mode, non-blocking.
@@ -142,16 +132,6 @@ EmulatorHost::Options options(std::filesystem::path link = {}, std::uint64_t see
 
 bool contains(const std::string& text, const std::string& what) {
   return text.find(what) != std::string::npos;
-}
-
-template <class F>
-bool wait_for(F&& condition, std::chrono::milliseconds timeout = 5000ms) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > end) return false;
-    std::this_thread::sleep_for(2ms);
-  }
-  return true;
 }
 
 TEST(PseudoTerminal, RawRoundTripAndSymlink) {

@@ -1,18 +1,21 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Deterministic random numbers for the simulated sensors: splitmix64 for the bits, Box-Muller for
-// normals (polar form). Written out here (not <random> distributions) so a seed gives the same
-// numbers with every standard library and compiler. Not thread-safe; one generator per sensor.
+// The simulator's one pseudo-random generator: SplitMix64 (Steele, Lea, Flood 2014) for the bits,
+// our own uniform, normal and exponential draws on top, so a seed gives the same numbers with
+// every standard library and compiler (the std::*_distribution classes are
+// implementation-defined). Every random choice in the simulator (course generator, disturbances,
+// sensors, emulators) draws from one of these, seeded from the run's seed by `derive_seed` or
+// `split`. Plain value type, not thread-safe: one generator per user.
 #include <cmath>
 #include <cstdint>
 
-namespace coxswain::sim::sensors {
+namespace coxswain::sim {
 
 class Rng {
  public:
   explicit Rng(std::uint64_t seed = 0) : state_(seed) {}
 
-  /// Next 64 random bits (splitmix64, Steele/Lea/Flood).
+  /// Next 64 random bits.
   std::uint64_t next_u64() {
     std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ULL);
     z = (z ^ (z >> 30U)) * 0xBF58476D1CE4E5B9ULL;
@@ -21,7 +24,10 @@ class Rng {
   }
   /// Uniform in [0, 1) with 53 random bits.
   double uniform() { return static_cast<double>(next_u64() >> 11U) * 0x1.0p-53; }
+  /// Uniform in [lo, hi).
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  /// Uniform integer in [0, n); n > 0. (Modulo bias < 2^-40 for the small n used here.)
+  std::uint64_t below(std::uint64_t n) { return next_u64() % n; }
   /// True with probability p.
   bool chance(double p) { return p > 0.0 && uniform() < p; }
   /// Standard normal (Marsaglia's polar form of Box-Muller: no sin/cos; the second value of each
@@ -51,6 +57,8 @@ class Rng {
     while (u <= 0.0) u = uniform();
     return -mean * std::log(u);
   }
+  /// A new independent stream (for one disturbance or one generator stage).
+  Rng split() { return Rng(next_u64()); }
 
  private:
   std::uint64_t state_;
@@ -58,10 +66,10 @@ class Rng {
   bool have_spare_ = false;
 };
 
-/// A seed for sub-generator `stream` derived from a master seed (so sensors do not share draws).
+/// A seed for sub-generator `stream` derived from a master seed (so users do not share draws).
 [[nodiscard]] inline std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) {
   Rng r(seed ^ (0xD1B54A32D192ED03ULL * (stream + 1)));
   return r.next_u64();
 }
 
-}  // namespace coxswain::sim::sensors
+}  // namespace coxswain::sim
