@@ -659,6 +659,13 @@ constexpr std::array kPlanning{
         "the look turn, relative to the goal's bearing"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::look_thrust_frac>(
         "planner.look_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while turning to look"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::stuck_s>(
+        "planner.stuck_s", "s", 0.0, 600.0, kFixed,
+        "stuck (with or without the planner): no progress this long starts stop, back off, "
+        "turn to the path; 0 never"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::stuck_distance_m>(
+        "planner.stuck_distance_m", "m", 0.01, 20.0, kFixed,
+        "progress: moving this far from where the boat was"),
     bool_param<PlanningConfig, &PlanningConfig::gates, &GateParams::judge_by_lidar>(
         "gates.judge_by_lidar", kFixed,
         "a gate is passed when the track crosses between its buoys as the lidar places them"),

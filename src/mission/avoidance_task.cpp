@@ -74,6 +74,8 @@ class AvoidanceTask final : public AvoidingTask {
     off_map_ = false;
     failures_ = 0;
     look_sign_ = 1.0;
+    stuck_ = false;
+    last_step_ns_ = core::kNeverNs;
     set_phase(course1_ ? "to_waypoint" : "navigate", "task entered");
     return {};
   }
@@ -87,6 +89,7 @@ class AvoidanceTask final : public AvoidingTask {
       if (!course1_) return TaskResult::kDone;
       return start_search(ctx, out);
     }
+    const bool moving_on = watch_progress(ctx);
     const core::NavPoint goal = steering_goal(ctx);
     core::NavPoint aim = goal;
     // The last metres through a gate are the avoidance's: the inflated buoys leave the planner
@@ -95,11 +98,16 @@ class AvoidanceTask final : public AvoidingTask {
                                core::distance_m(ctx.antenna, gate_.mid()) < kGateMouthM;
     if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && !in_gate_mouth) {
       replan(ctx, goal);
-      if (no_path_) return recover(ctx, out);
+      if (no_path_) {
+        stuck_ = false;
+        progress_ns_ = ctx.now_ns;  // the no-path recovery moves the boat on its own
+        return recover(ctx, out);
+      }
       if (!off_map_) {
         if (const auto sg = ctx.planner->subgoal(ctx.antenna)) aim = *sg;
       }
     }
+    if (!moving_on) return unstick(ctx, aim, out);
     fill_viz(ctx, goal);
     steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
     return TaskResult::kRunning;
@@ -156,6 +164,7 @@ class AvoidanceTask final : public AvoidingTask {
     out.speed_factor = d.speed_factor;
   }
   static constexpr double kBuoyIsolationM = 0.8;
+  static constexpr double kStepGapS = 1.0;  // steps further apart: the task was paused (hold)
   static constexpr double kGateMouthM = 3.0;
 
   [[nodiscard]] core::NavPoint target() const { return route_.points[index_]; }
@@ -385,6 +394,57 @@ class AvoidanceTask final : public AvoidingTask {
     }
   }
 
+  /// Follows the boat's progress; false while it is stuck (moved less than stuck_distance_m in
+  /// stuck_s) and backing off, true when it may sail on.
+  bool watch_progress(const TaskContext& ctx) {
+    const bool resumed =
+        last_step_ns_ == core::kNeverNs || core::ns_to_sec(ctx.now_ns - last_step_ns_) > kStepGapS;
+    last_step_ns_ = ctx.now_ns;
+    if (resumed || core::distance_m(ctx.antenna, progress_at_) > plan_.stuck_distance_m) {
+      progress_at_ = ctx.antenna;
+      progress_ns_ = ctx.now_ns;
+    }
+    if (stuck_) {
+      const double cycle = plan_.stop_s + plan_.back_off_s + plan_.look_s;
+      if (core::ns_to_sec(ctx.now_ns - stuck_since_ns_) < cycle) return false;
+      stuck_ = false;
+      progress_at_ = ctx.antenna;
+      progress_ns_ = ctx.now_ns;
+      set_phase(course1_ ? "to_waypoint" : "navigate", "backed off; on toward the goal");
+      return true;
+    }
+    if (plan_.stuck_s > 0.0 && core::ns_to_sec(ctx.now_ns - progress_ns_) >= plan_.stuck_s) {
+      stuck_ = true;
+      stuck_since_ns_ = ctx.now_ns;
+      look_sign_ = -look_sign_;
+      planned_goal_ = steering_goal(ctx);
+      set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
+                                       core::distance_m(ctx.antenna, progress_at_), plan_.stuck_s));
+      return false;
+    }
+    return true;
+  }
+
+  /// Stuck: stop, back off astern on the same heading, then turn toward the path's sub-goal
+  /// (with the planner) or square to the goal, one side then the other (without).
+  TaskResult unstick(const TaskContext& ctx, core::NavPoint aim, GuidanceRequest& out) {
+    const double t = core::ns_to_sec(ctx.now_ns - stuck_since_ns_);
+    out.steer = true;
+    out.desired_heading_deg = ctx.pose.heading_deg;
+    out.thrust_frac = 0.0;
+    if (t >= plan_.stop_s + plan_.back_off_s) {
+      const bool planned = plan_.enabled && ctx.planner != nullptr && !off_map_ &&
+                           ctx.planner->status() == guidance::PlanStatus::kOk;
+      out.desired_heading_deg = planned ? core::bearing_deg(ctx.antenna, aim) : look_heading(ctx);
+      out.thrust_frac = plan_.look_thrust_frac;
+    } else if (t >= plan_.stop_s) {
+      out.thrust_frac = plan_.back_off_thrust_frac;
+      out.speed_factor = -1.0;
+    }
+    fill_viz(ctx, steering_goal(ctx));
+    return TaskResult::kRunning;
+  }
+
   /// Square to the goal's bearing, one side then the other: looking round, never at the goal.
   double look_heading(const TaskContext& ctx) const {
     const double to_goal = core::bearing_deg(ctx.antenna, planned_goal_);
@@ -481,6 +541,12 @@ class AvoidanceTask final : public AvoidingTask {
   core::TimeNs no_path_since_ns_ = 0;
   double look_heading_deg_ = 0.0;
   double look_sign_ = 1.0;
+  // Progress (stuck detection).
+  core::NavPoint progress_at_;
+  core::TimeNs progress_ns_ = 0;
+  core::TimeNs last_step_ns_ = core::kNeverNs;
+  bool stuck_ = false;
+  core::TimeNs stuck_since_ns_ = 0;
 };
 
 }  // namespace

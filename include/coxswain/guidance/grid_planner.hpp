@@ -47,6 +47,10 @@ struct GridView {
   double resolution_m = 1.0;
   core::NavPoint origin{};  // south-west corner of cell (0, 0)
   const CellState* state = nullptr;
+  // How deep each cell lies in the inflation (0 free, larger nearer an obstacle), or none. With
+  // it, a boat starting inside the inflation escapes only by moving no deeper, so it backs away
+  // from a wall but never threads the gap between two buoys it lies beside.
+  const std::uint8_t* depth = nullptr;
 
   [[nodiscard]] std::optional<GridCell> cell_of(core::NavPoint p) const;
   [[nodiscard]] core::NavPoint center_of(GridCell c) const;
@@ -113,7 +117,8 @@ enum class PlanStatus : std::uint8_t {
 
 /// 8-connected A* with an octile-distance heuristic; diagonal moves may not cut an obstacle's
 /// corner. Occupied and inflated cells are impassable, except that a boat starting inside the
-/// inflation may leave it through inflated (never occupied) cells. The path runs from the start
+/// inflation may leave it through inflated (never occupied) cells, never deeper ones when the
+/// grid gives the inflation's depth. The path runs from the start
 /// position to the goal position through cell centres, with collinear points removed.
 /// All arrays are sized in the constructor for a grid of rows x cols; `plan` does not allocate.
 /// Not thread-safe.

@@ -51,11 +51,16 @@ struct MapPlannerParams {
   double goal_search_m = 1.5;            // a blocked goal moves to the nearest free cell this near
   // No path: stop, back off, turn to look, replan; never drive at the goal.
   double stop_s = 1.0;
-  double back_off_s = 2.0;
-  double back_off_thrust_frac = 0.3;
+  double back_off_s = 4.0;  // astern is weak: 2 s at 0.3 moved a boat pinned on a wall 0.25 m
+  double back_off_thrust_frac = 0.6;
   double look_s = 3.0;
   double look_turn_deg = 90.0;
   double look_thrust_frac = 0.3;
+  // Stuck (with or without the planner): the boat moved less than stuck_distance_m in
+  // stuck_s while it meant to go somewhere, as when its bow is on a wall; it stops, backs off
+  // and turns toward its path (the stop/back-off/look times above). 0 s: never.
+  double stuck_s = 5.0;
+  double stuck_distance_m = 0.5;
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
@@ -171,6 +176,7 @@ class MapPlanner {
   struct Offset {
     int dr;
     int dc;
+    std::uint8_t depth;  // how far inside the inflation radius, 1..254 (see GridView::depth)
   };
   void inflate(const NavMap& map);
 
@@ -181,6 +187,8 @@ class MapPlanner {
   std::uint32_t cols_;
   std::vector<CellState> known_state_;  // the known layer inflated once
   std::vector<CellState> state_;
+  std::vector<std::uint8_t> known_depth_;
+  std::vector<std::uint8_t> depth_;
   std::vector<Offset> stencil_;
   std::vector<Offset> goal_ring_;  // offsets within goal_search_m, nearest first
   AStarPlanner astar_;

@@ -256,7 +256,10 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
     if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return false;
     const auto st = grid.at({static_cast<std::uint32_t>(r), static_cast<std::uint32_t>(c)});
     if (st == CellState::kFree) return true;
-    return st == CellState::kInflated && escaping_[from] != 0;
+    if (st != CellState::kInflated || escaping_[from] == 0) return false;
+    return grid.depth == nullptr ||
+           grid.depth[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)] <=
+               grid.depth[from];
   };
 
   bool found = false;

@@ -11,6 +11,7 @@
 
 namespace coxswain::guidance {
 namespace {
+constexpr std::uint8_t kDeepest = 255;  // an occupied cell's inflation depth
 
 bool finite_pos(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_nonneg(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -53,6 +54,9 @@ std::optional<std::string> MapPlannerParams::validate() const {
   }
   if (!std::isfinite(look_turn_deg) || std::abs(look_turn_deg) > 180.0) {
     return "planner: look_turn_deg in [-180, 180]";
+  }
+  if (!finite_nonneg(stuck_s) || !finite_pos(stuck_distance_m)) {
+    return "planner: stuck_s >= 0 and stuck_distance_m > 0";
   }
   return {};
 }
@@ -300,6 +304,8 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       cols_(map.cols()),
       known_state_(static_cast<std::size_t>(rows_) * cols_, CellState::kFree),
       state_(known_state_.size(), CellState::kFree),
+      known_depth_(known_state_.size(), 0),
+      depth_(known_state_.size(), 0),
       astar_(rows_, cols_) {
   if (auto e = params.validate()) throw std::invalid_argument(*e);
   if (!std::isfinite(half_beam_m) || half_beam_m < 0.0) {
@@ -310,14 +316,18 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
   const int n = static_cast<int>(std::ceil(reach));
   for (int dr = -n; dr <= n; ++dr) {
     for (int dc = -n; dc <= n; ++dc) {
-      if ((dr != 0 || dc != 0) && std::hypot(dr, dc) <= reach) stencil_.push_back({dr, dc});
+      const double d = std::hypot(dr, dc);
+      if ((dr != 0 || dc != 0) && d <= reach) {
+        const double deep = std::clamp(1.0 + (reach - d) * 16.0, 1.0, 254.0);
+        stencil_.push_back({dr, dc, static_cast<std::uint8_t>(deep)});
+      }
     }
   }
   const int g = static_cast<int>(std::ceil(params.goal_search_m / resolution_m_));
   for (int dr = -g; dr <= g; ++dr) {
     for (int dc = -g; dc <= g; ++dc) {
       if (std::hypot(dr, dc) <= params.goal_search_m / resolution_m_)
-        goal_ring_.push_back({dr, dc});
+        goal_ring_.push_back({dr, dc, 0});
     }
   }
   std::stable_sort(goal_ring_.begin(), goal_ring_.end(), [](Offset a, Offset b) {
@@ -336,35 +346,41 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       if (!known(r, c)) continue;
       known_state_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)] =
           CellState::kOccupied;
+      known_depth_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)] = kDeepest;
       if (known(r - 1, c) && known(r + 1, c) && known(r, c - 1) && known(r, c + 1)) continue;
       for (const Offset& o : stencil_) {
         const int rr = r + o.dr;
         const int cc = c + o.dc;
         if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-        CellState& s =
-            known_state_[static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc)];
-        if (s == CellState::kFree) s = CellState::kInflated;
+        const std::size_t kk = static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc);
+        if (known_state_[kk] == CellState::kFree) known_state_[kk] = CellState::kInflated;
+        known_depth_[kk] = std::max(known_depth_[kk], o.depth);
       }
     }
   }
 }
 
-GridView MapPlanner::view() const { return {rows_, cols_, resolution_m_, origin_, state_.data()}; }
+GridView MapPlanner::view() const {
+  return {rows_, cols_, resolution_m_, origin_, state_.data(), depth_.data()};
+}
 
 void MapPlanner::inflate(const NavMap& map) {
   std::copy(known_state_.begin(), known_state_.end(), state_.begin());
+  std::copy(known_depth_.begin(), known_depth_.end(), depth_.begin());
   const auto rows = static_cast<int>(rows_);
   const auto cols = static_cast<int>(cols_);
   for (const std::uint32_t k : map.lidar_occupied()) {
     state_[k] = CellState::kOccupied;
+    depth_[k] = kDeepest;
     const auto r = static_cast<int>(k / cols_);
     const auto c = static_cast<int>(k % cols_);
     for (const Offset& o : stencil_) {
       const int rr = r + o.dr;
       const int cc = c + o.dc;
       if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-      CellState& s = state_[static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc)];
-      if (s == CellState::kFree) s = CellState::kInflated;
+      const std::size_t kk = static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc);
+      if (state_[kk] == CellState::kFree) state_[kk] = CellState::kInflated;
+      depth_[kk] = std::max(depth_[kk], o.depth);
     }
   }
 }

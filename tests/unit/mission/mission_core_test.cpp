@@ -508,6 +508,8 @@ TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrives
                                  core::NavPoint{8.0, 5.0}, core::NavPoint{8.0, -5.0}}) {
     c.mission.planning.boundary.push_back(f.to_geo(p));
   }
+  // Long enough a look for the thrust to ramp from astern to ahead within it.
+  c.mission.planning.planner.look_s = 5.0;
   auto rig = std::make_unique<Rig>(c);
   rig->move = true;
   rig->run_for(1.0);
@@ -535,6 +537,45 @@ TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrives
   EXPECT_TRUE(backed_off);
   EXPECT_EQ(rig->path(), "obstacle_course/no_path");
   EXPECT_LT(rig->position.north_m, 8.0);
+}
+
+// A hull held fast (its bow on a wall, say) while the task means to sail: with the planner and
+// without it, the task notices, stops, backs off, turns, then sails on; a boat that moves never
+// counts as stuck.
+TEST(MissionObstacleCourse, ABoatThatMakesNoProgressBacksOffAndThenSailsOn) {
+  for (const bool planner : {true, false}) {
+    SCOPED_TRACE(planner ? "with the planner" : "without the planner");
+    config::Configuration c = gate_config();
+    c.mission.planning.planner.enabled = planner;
+    const guidance::MapPlannerParams& p = c.mission.planning.planner;
+    auto rig = std::make_unique<Rig>(c);
+    rig->move = false;
+    rig->run_for(1.0);
+    ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+    rig->run_for(p.stuck_s - 1.5);
+    EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+    rig->run_for(1.0);
+    ASSERT_EQ(rig->path(), "obstacle_course/stuck") << rig->log_text();
+    EXPECT_TRUE(rig->logged("moved 0.0 m in 5 s: stop, back off, turn")) << rig->log_text();
+    bool astern = false;
+    bool ahead_again = false;
+    const int cycle_ticks =
+        static_cast<int>((p.stop_s + p.back_off_s + p.look_s) / core::ns_to_sec(kTickNs));
+    for (int i = 0; i < cycle_ticks + 10; ++i) {
+      rig->tick();
+      astern = astern || rig->out.command.pulse_us[1] < 1500;
+      ahead_again = ahead_again || (astern && rig->thrust_frac() > 0.0);
+    }
+    EXPECT_TRUE(astern);
+    EXPECT_TRUE(ahead_again);
+    EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+    EXPECT_TRUE(rig->logged("backed off; on toward the goal")) << rig->log_text();
+  }
+  // Sailing freely toward the gate: never stuck.
+  auto rig = std::make_unique<Rig>(gate_config());
+  rig->move = true;
+  rig->run_for(12.0);
+  EXPECT_FALSE(rig->logged("stop, back off, turn")) << rig->log_text();
 }
 
 TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {

@@ -71,6 +71,9 @@ void apply_baseline(config::MissionConfig& m) {
   m.navigation.position_gain = 1.0;
   m.navigation.start_lever_arm = false;
   m.navigation.start_drift = false;
+  // Nor did they plan on a map or notice a boat that made no progress.
+  m.planning.planner.enabled = false;
+  m.planning.planner.stuck_s = 0.0;
 }
 
 void print_summary_line(const std::string& label, const runner::MissionRunResult& r) {

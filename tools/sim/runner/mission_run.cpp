@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/runner/mission_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -20,6 +21,26 @@ config::MissionConfig fit_mission_to_course(const config::MissionConfig& mission
   const auto geo = [&frame](core::NavPoint p) { return frame.to_geo(p); };
   m.origin = geo(world.start.position);
   std::size_t course_wp = 0;  // next world waypoint for the 2026 courses
+  // The field's corners, as the organisers publish them: the bounding rectangle of the course's
+  // regions and the start (with room to turn there), unless the mission file gives its own.
+  if (m.planning.boundary.empty() && !world.regions.empty()) {
+    constexpr double kStartRoomM = 2.0;
+    double n0 = world.start.position.north_m - kStartRoomM;
+    double n1 = world.start.position.north_m + kStartRoomM;
+    double e0 = world.start.position.east_m - kStartRoomM;
+    double e1 = world.start.position.east_m + kStartRoomM;
+    for (const auto& r : world.regions) {
+      for (const core::NavPoint& p : r.polygon) {
+        n0 = std::min(n0, p.north_m);
+        n1 = std::max(n1, p.north_m);
+        e0 = std::min(e0, p.east_m);
+        e1 = std::max(e1, p.east_m);
+      }
+    }
+    if (n1 > n0 && e1 > e0) {
+      m.planning.boundary = {geo({n0, e0}), geo({n1, e0}), geo({n1, e1}), geo({n0, e1})};
+    }
+  }
   for (auto& task : m.tasks) {
     switch (task.type) {
       case config::TaskType::kHopping:

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace coxswain::guidance {
 namespace {
@@ -167,6 +169,35 @@ TEST(AStar, StartInsideTheInflationCanLeaveIt) {
   for (const NavPoint& p : a.path()) {
     EXPECT_NE(g.state(*g.cell_of(p)), OccupancyGrid::State::kOccupied);
   }
+}
+
+// A row of obstacles across a 9 x 9 grid with a one-cell gap narrower than the hull, the boat
+// in the inflation just below the gap: it may back away, never squeeze through.
+TEST(AStar, WithDepthsAnEscapeFromTheInflationNeverGoesDeeper) {
+  constexpr std::uint32_t kN = 9;
+  std::vector<CellState> state(kN * kN, CellState::kFree);
+  std::vector<std::uint8_t> depth(kN * kN, 0);
+  for (std::uint32_t c = 0; c < kN; ++c) {
+    state[4 * kN + c] = CellState::kOccupied;
+    depth[4 * kN + c] = 255;
+    for (const std::uint32_t r : {3U, 5U}) {
+      state[r * kN + c] = CellState::kInflated;
+      depth[r * kN + c] = 100;
+    }
+  }
+  state[4 * kN + 4] = CellState::kInflated;  // the gap, deeper than its sides
+  depth[4 * kN + 4] = 200;
+  GridView view{kN, kN, 1.0, {0.0, 0.0}, state.data(), nullptr};
+  const NavPoint start{3.5, 4.5};  // cell (3, 4)
+  const NavPoint beyond{8.5, 4.5};
+  const NavPoint back{0.5, 4.5};
+  AStarPlanner a(kN, kN);
+  // Without depths the escape threads the gap; with them there is no way through, but the way
+  // back is open.
+  EXPECT_EQ(a.plan(view, start, beyond), PlanStatus::kOk);
+  view.depth = depth.data();
+  EXPECT_EQ(a.plan(view, start, beyond), PlanStatus::kNoPath);
+  EXPECT_EQ(a.plan(view, start, back), PlanStatus::kOk);
 }
 
 TEST(AStar, DeterministicAndRepeatable) {
