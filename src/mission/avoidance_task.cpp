@@ -335,9 +335,17 @@ class AvoidanceTask final : public AvoidingTask {
     const core::NavPoint t = target();
     const double dist = core::distance_m(p, t);
     const bool by_confidence = ctx.position_cov_valid && wp_.arrival_confidence > 0.0;
-    const bool arrived = by_confidence ? guidance::confidently_within(p, ctx.position_cov, t,
-                                                                      wp_.rule_radius_m, k_sigma_)
-                                       : dist <= wp_.arrival_radius_m;
+    const bool inside = by_confidence ? guidance::confidently_within(p, ctx.position_cov, t,
+                                                                     wp_.rule_radius_m, k_sigma_)
+                                      : dist <= wp_.arrival_radius_m;
+    // A gate is passed going forward: a boat that comes at its point from beyond, heading back
+    // along the leg, has not passed it (it sails on through and turns).
+    const core::NavPoint fwd = leg_dir();
+    const double heading_rad = core::deg_to_rad(ctx.pose.heading_deg);
+    const bool going_forward =
+        !judge_gates_ ||
+        std::cos(heading_rad) * fwd.north_m + std::sin(heading_rad) * fwd.east_m > 0.0;
+    const bool arrived = inside && going_forward;
     if (arrived) {
       set_reason(reason_printf("arrived at waypoint %zu (%.1f m, GNSS)", index_ + 1, dist).view());
       next_waypoint(ctx, true);
