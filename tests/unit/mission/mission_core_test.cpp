@@ -539,6 +539,40 @@ TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrives
   EXPECT_LT(rig->position.north_m, 8.0);
 }
 
+// With no buoys in sight the gate falls back to the position estimate, but only going forward:
+// a boat that comes at the gate's point from beyond, heading back, has not passed it.
+TEST(MissionObstacleCourse, TheEstimateCountsAGateOnlyWhenTheBoatHeadsForwardAlongTheLeg) {
+  config::Configuration c = gate_config();
+  c.mission.planning.planner.enabled = false;
+  auto rig = std::make_unique<Rig>(c);
+  const auto sail = [&rig](core::NavPoint to, double heading_deg, double seconds) {
+    const core::NavPoint from = rig->position;
+    const int n = static_cast<int>(seconds / core::ns_to_sec(kTickNs));
+    for (int i = 1; i <= n; ++i) {
+      const double t = static_cast<double>(i) / n;
+      rig->position = {from.north_m + t * (to.north_m - from.north_m),
+                       from.east_m + t * (to.east_m - from.east_m)};
+      rig->heading_deg = heading_deg;
+      rig->tick();
+    }
+  };
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  // Round the gate's point at a distance, then at it from beyond, heading south: not counted.
+  sail({10.0, 6.0}, 30.0, 8.0);
+  sail({26.0, 6.0}, 0.0, 10.0);
+  sail({26.0, 0.0}, 270.0, 4.0);
+  sail({14.0, 0.0}, 180.0, 8.0);
+  EXPECT_FALSE(rig->out.status.finished) << rig->log_text();
+  EXPECT_FALSE(rig->logged("arrived at waypoint 1")) << rig->log_text();
+  // Round again and through it heading north: counted.
+  sail({14.0, -4.0}, 270.0, 3.0);
+  sail({12.0, 0.0}, 60.0, 3.0);
+  sail({24.0, 0.0}, 0.0, 8.0);
+  EXPECT_TRUE(rig->out.status.finished) << rig->log_text();
+  EXPECT_TRUE(rig->logged("arrived at waypoint 1")) << rig->log_text();
+}
+
 // A hull held fast (its bow on a wall, say) while the task means to sail: with the planner and
 // without it, the task notices, stops, backs off, turns, then sails on; a boat that moves never
 // counts as stuck.
