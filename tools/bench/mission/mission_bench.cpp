@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Cost of one MissionCore::step in the obstacle course: with a new full lidar scan to cluster
 // (3600 returns: a walled channel with buoys) and without (the ticks between scans). Argument
-// `shipped`: 1 = the shipped obstacle-course mission file and boat (swept hull on, planner
-// off), 0 = the engines' defaults; `planner`: the lidar map and global planner on or off.
+// `shipped`: 1 = the shipped obstacle-course mission file and boat (swept hull on; the file
+// ships the planner on), 0 = the engines' defaults; `planner`: the lidar map and global planner
+// on or off, whatever the file says.
 // Each step is timed on its own and the median and p99 reported (the mean hides the tail).
 #include <benchmark/benchmark.h>
 
