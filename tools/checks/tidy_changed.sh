@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # clang-tidy (the repository's .clang-tidy, every warning an error) on the C++ sources under
 # src/ and tools/ that changed since a base commit: by default the one named in .ci/tidy-base
-# (the last state that passed CI; move it forward when a change lands), or the first argument.
+# (the last state whose changed sources all passed; move it forward when a change lands), or the
+# first argument.
 # Needs a configured build's compile_commands.json (second argument, default build).
 #   tools/checks/tidy_changed.sh [BASE] [BUILD_DIR]
 set -euo pipefail
