@@ -436,14 +436,21 @@ class AvoidanceTask final : public AvoidingTask {
   /// Stuck: stop, back off astern on the same heading, then turn toward the path's sub-goal
   /// (with the planner) or square to the goal, one side then the other (without).
   TaskResult unstick(const TaskContext& ctx, core::NavPoint aim, GuidanceRequest& out) {
-    const double t = core::ns_to_sec(ctx.now_ns - stuck_since_ns_);
+    const bool planned = plan_.enabled && ctx.planner != nullptr && !off_map_ &&
+                         ctx.planner->status() == guidance::PlanStatus::kOk;
+    const double look_deg = planned ? core::bearing_deg(ctx.antenna, aim) : look_heading(ctx);
+    return back_off_then_look(ctx, core::ns_to_sec(ctx.now_ns - stuck_since_ns_), look_deg, out);
+  }
+
+  /// `t` seconds into a recovery: stopped, then astern on the same heading, then turning to
+  /// `look_deg` at the look thrust.
+  TaskResult back_off_then_look(const TaskContext& ctx, double t, double look_deg,
+                                GuidanceRequest& out) const {
     out.steer = true;
     out.desired_heading_deg = ctx.pose.heading_deg;
     out.thrust_frac = 0.0;
     if (t >= plan_.stop_s + plan_.back_off_s) {
-      const bool planned = plan_.enabled && ctx.planner != nullptr && !off_map_ &&
-                           ctx.planner->status() == guidance::PlanStatus::kOk;
-      out.desired_heading_deg = planned ? core::bearing_deg(ctx.antenna, aim) : look_heading(ctx);
+      out.desired_heading_deg = look_deg;
       out.thrust_frac = plan_.look_thrust_frac;
     } else if (t >= plan_.stop_s) {
       out.thrust_frac = plan_.back_off_thrust_frac;
@@ -470,18 +477,7 @@ class AvoidanceTask final : public AvoidingTask {
       look_sign_ = -look_sign_;
       t = 0.0;
     }
-    out.steer = true;
-    out.desired_heading_deg = ctx.pose.heading_deg;
-    out.thrust_frac = 0.0;
-    if (t >= plan_.stop_s + plan_.back_off_s) {
-      out.desired_heading_deg = look_heading_deg_;
-      out.thrust_frac = plan_.look_thrust_frac;
-    } else if (t >= plan_.stop_s) {
-      out.thrust_frac = plan_.back_off_thrust_frac;
-      out.speed_factor = -1.0;
-    }
-    fill_viz(ctx, steering_goal(ctx));
-    return TaskResult::kRunning;
+    return back_off_then_look(ctx, t, look_heading_deg_, out);
   }
 
   void fill_viz(const TaskContext& ctx, core::NavPoint goal) const {

@@ -438,6 +438,20 @@ struct Crossing {
   }
 };
 
+// Moves the rig's boat in a straight line to `to` over `seconds`, heading fixed, ticking the
+// core on the way (a scripted track: the boat does not follow the commands).
+void sail_scripted(Rig& rig, core::NavPoint to, double heading_deg, double seconds) {
+  const core::NavPoint from = rig.position;
+  const int n = static_cast<int>(seconds / core::ns_to_sec(kTickNs));
+  for (int i = 1; i <= n; ++i) {
+    const double t = static_cast<double>(i) / n;
+    rig.position = {from.north_m + t * (to.north_m - from.north_m),
+                    from.east_m + t * (to.east_m - from.east_m)};
+    rig.heading_deg = heading_deg;
+    rig.tick();
+  }
+}
+
 TEST(MissionObstacleCourse, AGateIsJudgedOnTheBuoysTheLidarSeesNotOnABiasedGnssFix) {
   auto rig = std::make_unique<Rig>(gate_config());
   rig->move = true;
@@ -470,15 +484,7 @@ TEST(MissionObstacleCourse, ATrackCrossingOutsideTheGateTurnsTheBoatBackAndNever
   rig->world_buoys.push_back({{20.0, 1.5}, 0.2});
   // The track is scripted (the boat does not follow the commands): up past the gate's port buoy.
   const auto sail = [&rig](core::NavPoint to, double heading_deg, double seconds) {
-    const core::NavPoint from = rig->position;
-    const int n = static_cast<int>(seconds / core::ns_to_sec(kTickNs));
-    for (int i = 1; i <= n; ++i) {
-      const double t = static_cast<double>(i) / n;
-      rig->position = {from.north_m + t * (to.north_m - from.north_m),
-                       from.east_m + t * (to.east_m - from.east_m)};
-      rig->heading_deg = heading_deg;
-      rig->tick();
-    }
+    sail_scripted(*rig, to, heading_deg, seconds);
   };
   rig->run_for(1.0);
   ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
@@ -546,15 +552,7 @@ TEST(MissionObstacleCourse, TheEstimateCountsAGateOnlyWhenTheBoatHeadsForwardAlo
   c.mission.planning.planner.enabled = false;
   auto rig = std::make_unique<Rig>(c);
   const auto sail = [&rig](core::NavPoint to, double heading_deg, double seconds) {
-    const core::NavPoint from = rig->position;
-    const int n = static_cast<int>(seconds / core::ns_to_sec(kTickNs));
-    for (int i = 1; i <= n; ++i) {
-      const double t = static_cast<double>(i) / n;
-      rig->position = {from.north_m + t * (to.north_m - from.north_m),
-                       from.east_m + t * (to.east_m - from.east_m)};
-      rig->heading_deg = heading_deg;
-      rig->tick();
-    }
+    sail_scripted(*rig, to, heading_deg, seconds);
   };
   rig->run_for(1.0);
   ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
