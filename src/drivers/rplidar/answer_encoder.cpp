@@ -3,16 +3,9 @@
 
 #include <algorithm>
 
+#include "little_endian.hpp"
+
 namespace coxswain::drivers::rplidar {
-namespace {
-
-void put_u16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v & 0xFFU);
-  p[1] = static_cast<std::uint8_t>(v >> 8U);
-}
-
-}  // namespace
-
 std::array<std::uint8_t, kDescriptorSize> encode_descriptor(AnswerType type, std::uint32_t size,
                                                             SendMode mode) {
   const std::uint32_t word = (size & 0x3FFFFFFFU) | (static_cast<std::uint32_t>(mode) << 30U);

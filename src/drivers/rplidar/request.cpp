@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "little_endian.hpp"
+
 namespace coxswain::drivers::rplidar {
 namespace {
 
@@ -19,15 +21,6 @@ Request with_answer(Request r, std::optional<AnswerType> answer, std::uint16_t s
 
 Request simple(Command c, std::optional<AnswerType> answer, std::uint16_t settle_ms = 0) {
   return with_answer(must(encode_request(cmd_byte(c), {})), answer, settle_ms);
-}
-
-void put_u16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v & 0xFFU);
-  p[1] = static_cast<std::uint8_t>(v >> 8U);
-}
-
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xFFU);
 }
 
 }  // namespace

@@ -7,11 +7,9 @@
 
 #include <Eigen/Dense>
 
-namespace coxswain::guidance {
+#include "coxswain/core/angles.hpp"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}  // namespace
+namespace coxswain::guidance {
 
 std::array<double, 2> MagCalibration::correct(double x_ut, double y_ut) const {
   const double x = x_ut - hard_iron_x_ut;
@@ -23,7 +21,7 @@ double MagCalibration::heading_deg(double x_ut, double y_ut) const {
   // The field points to magnetic north: seen from a board turned psi clockwise, it lies at
   // -psi (x forward, y starboard).
   const std::array<double, 2> c = correct(x_ut, y_ut);
-  return std::atan2(-c[1], c[0]) * 180.0 / kPi;
+  return std::atan2(-c[1], c[0]) * 180.0 / core::kPi;
 }
 
 std::optional<MagCalibration> fit_mag_calibration(std::span<const std::array<double, 2>> samples,

@@ -13,7 +13,7 @@ namespace coxswain::guidance {
 namespace {
 
 constexpr double kGravityMps2 = 9.80665;
-constexpr double kPi = 3.14159265358979323846;
+using core::kPi;
 constexpr double kDegToRad = kPi / 180.0;
 constexpr double kRadToDeg = 180.0 / kPi;
 // Propagation steps longer than this are split (linearisation of the heading terms).

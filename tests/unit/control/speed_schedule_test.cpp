@@ -8,7 +8,7 @@
 namespace coxswain::control {
 namespace {
 
-constexpr core::TimeNs kTick = core::ms_to_ns(100);
+constexpr core::TimeNs kScheduleTick = core::ms_to_ns(100);
 
 TEST(SpeedSchedule, LinearBetweenSlowAndFast) {
   const SpeedSchedule s;  // 0.3 at 2 m, 1.0 at 12 m
@@ -27,8 +27,8 @@ TEST(SpeedSchedule, NoLurchAfterWaypointSwitch) {
   SpeedSchedule s(p);
   s.reset(0.3);
   core::TimeNs t = 0;
-  for (int i = 0; i < 20; ++i) s.update(1.5, t += kTick);  // arriving
-  const double before = s.update(1.5, t += kTick);
+  for (int i = 0; i < 20; ++i) s.update(1.5, t += kScheduleTick);  // arriving
+  const double before = s.update(1.5, t += kScheduleTick);
   EXPECT_NEAR(before, 0.3, 1e-12);
 
   const double naive_after = s.scheduled(40.0);  // what the unlimited schedule commands
@@ -38,7 +38,7 @@ TEST(SpeedSchedule, NoLurchAfterWaypointSwitch) {
   int steps = 0;
   double y = before;
   while (y < 1.0 - 1e-12 && steps < 1000) {
-    y = s.update(40.0, t += kTick);
+    y = s.update(40.0, t += kScheduleTick);
     EXPECT_LE(y - prev, p.rise_per_s * 0.1 + 1e-12) << "step " << steps;
     prev = y;
     ++steps;
@@ -52,7 +52,7 @@ TEST(SpeedSchedule, SlowsDownAtTheFallRate) {
   SpeedSchedule s(p);
   s.reset(1.0);
   s.update(50.0, 0);
-  EXPECT_NEAR(s.update(0.0, kTick), 0.95, 1e-12);
+  EXPECT_NEAR(s.update(0.0, kScheduleTick), 0.95, 1e-12);
 }
 
 TEST(SpeedSchedule, Validate) {

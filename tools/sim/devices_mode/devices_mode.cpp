@@ -78,8 +78,6 @@ void write_text(const fs::path& path, const std::string& text) {
 }
 
 constexpr std::uint16_t kFailsafeMs = 300;
-constexpr std::array<msg::DeviceId, 4> kSerial{msg::DeviceId::kLidar, msg::DeviceId::kImu,
-                                               msg::DeviceId::kGnss, msg::DeviceId::kArduino};
 
 }  // namespace
 
@@ -557,7 +555,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
         s.options.on_progress(p);
       }
       bool all_running = true;
-      for (msg::DeviceId id : kSerial) {
+      for (msg::DeviceId id : kSerialDevices) {
         auto it = r.device_state.find(std::string(msg::device_name(id)));
         all_running = all_running && it != r.device_state.end() && it->second == "running";
       }

@@ -12,8 +12,6 @@ namespace {
 constexpr std::array<FaultKind, 5> kKinds{FaultKind::kUnplug, FaultKind::kReset,
                                           FaultKind::kGarbage, FaultKind::kSilence,
                                           FaultKind::kBaud};
-constexpr std::array<msg::DeviceId, 4> kSerial{msg::DeviceId::kLidar, msg::DeviceId::kImu,
-                                               msg::DeviceId::kGnss, msg::DeviceId::kArduino};
 
 double parse_seconds(std::string_view text, std::string_view what, std::string_view spec) {
   double v = 0.0;
@@ -28,7 +26,7 @@ double parse_seconds(std::string_view text, std::string_view what, std::string_v
 
 std::string device_list() {
   std::string s;
-  for (msg::DeviceId id : kSerial) {
+  for (msg::DeviceId id : kSerialDevices) {
     if (!s.empty()) s += ", ";
     s += msg::device_name(id);
   }
@@ -88,7 +86,7 @@ FaultSpec parse_fault_spec(std::string_view spec) {
   FaultSpec f;
   const std::string_view device = spec.substr(0, colon);
   bool found = false;
-  for (msg::DeviceId id : kSerial) {
+  for (msg::DeviceId id : kSerialDevices) {
     if (device == msg::device_name(id)) {
       f.device = id;
       found = true;

@@ -11,6 +11,7 @@
 // - baud:    the device changed its baud rate: every byte arrives corrupted until it is back.
 // What the daemon did about each fault is read from its log: when the mission held, when the
 // device was running again, and when the mission resumed.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -23,6 +24,10 @@
 #include "sim/devices_mode/daemon_process.hpp"
 
 namespace coxswain::sim::devices_mode {
+
+/// The devices on serial lines (pseudo-terminals in devices mode): the ones a fault can strike.
+inline constexpr std::array<msg::DeviceId, 4> kSerialDevices{
+    msg::DeviceId::kLidar, msg::DeviceId::kImu, msg::DeviceId::kGnss, msg::DeviceId::kArduino};
 
 /// No later fault: a fault's log lines run to the end of the log.
 inline constexpr core::TimeNs kNoLaterFault = std::numeric_limits<core::TimeNs>::max();

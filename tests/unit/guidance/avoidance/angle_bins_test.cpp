@@ -6,16 +6,12 @@
 #include <cmath>
 
 #include "coxswain/core/angles.hpp"
+#include "support/obstacles.hpp"
 
 namespace coxswain::guidance {
 namespace {
 
-perception::ObstacleSegment seg(double f0, double s0, double f1, double s1) {
-  perception::ObstacleSegment s;
-  s.begin = {f0, s0};
-  s.end = {f1, s1};
-  return s;
-}
+using test::segment;
 
 AngleBins make(double min_deg = -90.0, double max_deg = 90.0, double w = 1.0) {
   AngleBins b;
@@ -52,7 +48,7 @@ TEST(AngleBins, IndexAndCentre) {
 
 TEST(AngleBins, PointAheadWithoutHullCoversOnlyItsBins) {
   AngleBins b = make();
-  b.add_segment(seg(5.0, -0.01, 5.0, 0.01), 0.0);
+  b.add_segment(segment(5.0, -0.01, 5.0, 0.01), 0.0);
   EXPECT_NEAR(b.range_m(89), 5.0, 1e-6);
   EXPECT_NEAR(b.range_m(90), 5.0, 1e-6);
   EXPECT_EQ(blocked_count(b, 100.0), 2U);
@@ -62,7 +58,7 @@ TEST(AngleBins, MarginShrinksWithDistanceAsAsin) {
   const double hull = 0.8;
   for (const double d : {1.5, 3.0, 10.0}) {
     AngleBins b = make();
-    b.add_segment(seg(d, 0.0, d, 0.0), hull);
+    b.add_segment(segment(d, 0.0, d, 0.0), hull);
     const double margin = core::rad_to_deg(std::asin(hull / d));
     for (std::size_t i = 0; i < b.size(); ++i) {
       // Bin i's nearest edge to the obstacle's bearing (0).
@@ -77,15 +73,15 @@ TEST(AngleBins, MarginShrinksWithDistanceAsAsin) {
   }
   AngleBins near = make();
   AngleBins far = make();
-  near.add_segment(seg(1.0, 0.0, 1.0, 0.0), hull);
-  far.add_segment(seg(10.0, 0.0, 10.0, 0.0), hull);
+  near.add_segment(segment(1.0, 0.0, 1.0, 0.0), hull);
+  far.add_segment(segment(10.0, 0.0, 10.0, 0.0), hull);
   EXPECT_GT(blocked_count(near, 100.0), 5 * blocked_count(far, 100.0));
 }
 
 TEST(AngleBins, WallSpanningTheWholeFanFillsEveryBin) {
   // Fan -60..60; a wall 4 m ahead from bearing -68 to +68: both ends outside the fan.
   AngleBins b = make(-60.0, 60.0, 1.0);
-  b.add_segment(seg(4.0, -10.0, 4.0, 10.0), 0.0);
+  b.add_segment(segment(4.0, -10.0, 4.0, 10.0), 0.0);
   for (std::size_t i = 0; i < b.size(); ++i) {
     const double c = core::deg_to_rad(b.center_deg(i));
     // True distance within the bin: at most the distance along its centre ray.
@@ -98,14 +94,14 @@ TEST(AngleBins, WallSpanningTheWholeFanFillsEveryBin) {
 TEST(AngleBins, TrueClosestDistanceNotFirstPoint) {
   AngleBins b = make();
   // First point ~10 m away to port; the segment passes 3 m ahead of the bow.
-  b.add_segment(seg(3.0, -9.5, 3.0, 9.5), 0.0);
+  b.add_segment(segment(3.0, -9.5, 3.0, 9.5), 0.0);
   EXPECT_NEAR(b.range_m(b.index_of(0.2)), 3.0, 1e-9);
   EXPECT_NEAR(b.min_range_m(), 3.0, 1e-9);
 }
 
 TEST(AngleBins, SegmentBehindCrossingTheStern) {
   AngleBins b = make(-180.0, 180.0, 1.0);
-  b.add_segment(seg(-3.0, 1.0, -3.0, -1.0), 0.0);  // across the stern, +-180 deg
+  b.add_segment(segment(-3.0, 1.0, -3.0, -1.0), 0.0);  // across the stern, +-180 deg
   EXPECT_NEAR(b.range_m(b.index_of(179.7)), 3.0, 0.01);
   EXPECT_NEAR(b.range_m(b.index_of(-179.7)), 3.0, 0.01);
   EXPECT_GE(b.range_m(b.index_of(0.0)), AngleBins::kNoObstacle);
@@ -114,7 +110,7 @@ TEST(AngleBins, SegmentBehindCrossingTheStern) {
 
 TEST(AngleBins, InsideTheHullBlocksTheWholeForwardHalfOnThatSide) {
   AngleBins b = make();
-  b.add_segment(seg(0.0, 0.5, 0.0, 0.5), 0.8);  // abeam to starboard, within the hull margin
+  b.add_segment(segment(0.0, 0.5, 0.0, 0.5), 0.8);  // abeam to starboard, within the hull margin
   EXPECT_LT(b.range_m(b.index_of(45.0)), 1.0);
   EXPECT_LT(b.range_m(b.index_of(5.0)), 1.0);
   EXPECT_GE(b.range_m(b.index_of(-45.0)), AngleBins::kNoObstacle);
@@ -123,8 +119,8 @@ TEST(AngleBins, InsideTheHullBlocksTheWholeForwardHalfOnThatSide) {
 TEST(AngleBins, FillSkipsOutOfRangeSegments) {
   AngleBins b = make();
   perception::ObstacleList list;
-  ASSERT_TRUE(list.push(seg(20.0, 0.0, 20.0, 1.0)));
-  ASSERT_TRUE(list.push(seg(5.0, 2.0, 5.0, 3.0)));
+  ASSERT_TRUE(list.push(segment(20.0, 0.0, 20.0, 1.0)));
+  ASSERT_TRUE(list.push(segment(5.0, 2.0, 5.0, 3.0)));
   b.fill(list, 0.5, 10.0);
   EXPECT_GE(b.range_m(b.index_of(0.0)), AngleBins::kNoObstacle);
   EXPECT_LT(b.range_m(b.index_of(25.0)), 10.0);

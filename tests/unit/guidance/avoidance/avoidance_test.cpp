@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "coxswain/core/angles.hpp"
+#include "support/obstacles.hpp"
 
 namespace coxswain::guidance {
 namespace {
@@ -15,20 +16,15 @@ namespace {
 using perception::ObstacleList;
 using perception::ObstacleSegment;
 
-ObstacleSegment seg(double f0, double s0, double f1, double s1) {
-  ObstacleSegment s;
-  s.begin = {f0, s0};
-  s.end = {f1, s1};
-  return s;
-}
+using test::segment;
 
 // A short segment across the line of sight at `bearing_deg`, `range_m` away (a buoy).
 ObstacleSegment buoy(double range_m, double bearing_deg, double half_width_m = 0.2) {
   const double a = core::deg_to_rad(bearing_deg);
   const double f = range_m * std::cos(a);
   const double s = range_m * std::sin(a);
-  return seg(f + half_width_m * std::sin(a), s - half_width_m * std::cos(a),
-             f - half_width_m * std::sin(a), s + half_width_m * std::cos(a));
+  return segment(f + half_width_m * std::sin(a), s - half_width_m * std::cos(a),
+                 f - half_width_m * std::sin(a), s + half_width_m * std::cos(a));
 }
 
 ObstacleList list_of(std::initializer_list<ObstacleSegment> segs) {
@@ -158,7 +154,7 @@ TEST(Defects, WallSpanningTheWholeFanWithEndsOutsideIt) {
   AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
   // 2 m ahead, first point 5.4 m away (in range), both ends at +-68 deg: outside the fan.
-  const auto wall = list_of({seg(2.0, -5.0, 2.0, 5.0)});
+  const auto wall = list_of({segment(2.0, -5.0, 2.0, 5.0)});
   Avoidance naive = make(Strategy::kSelectionNaive2022, p);
   const auto n = naive.decide(wall, 0.0, 0);
   EXPECT_EQ(n.status, AvoidanceStatus::kClear);  // defect: never saw the wall
@@ -175,7 +171,7 @@ TEST(Defects, WallSpanningTheWholeFanWithEndsOutsideIt) {
 
 TEST(Defects, FirstPointFarButMiddleNear) {
   // First point ~10 m (beyond the 8 m range), but the wall passes 3 m ahead of the bow.
-  const auto wall = list_of({seg(3.0, -9.5, 3.0, 2.0)});
+  const auto wall = list_of({segment(3.0, -9.5, 3.0, 2.0)});
   Avoidance naive = make(Strategy::kSelectionNaive2022);
   EXPECT_DOUBLE_EQ(naive.decide(wall, 0.0, 0).bearing_body_deg, 0.0);  // defect: straight on
   Avoidance a = make(Strategy::kSelection);
@@ -186,8 +182,8 @@ TEST(Defects, FirstPointFarButMiddleNear) {
 
 TEST(Defects, AllBlockedSlowsShrinksThenStopsOrBacksOff) {
   // A pocket: wall 0.9 m ahead and walls 0.9 m to each side.
-  const auto pocket =
-      list_of({seg(0.9, -3.0, 0.9, 3.0), seg(-1.0, -0.9, 0.9, -0.9), seg(-1.0, 0.9, 0.9, 0.9)});
+  const auto pocket = list_of(
+      {segment(0.9, -3.0, 0.9, 3.0), segment(-1.0, -0.9, 0.9, -0.9), segment(-1.0, 0.9, 0.9, 0.9)});
   Avoidance naive = make(Strategy::kSelectionNaive2022);
   const auto n = naive.decide(pocket, 10.0, 0);
   EXPECT_DOUBLE_EQ(n.bearing_body_deg, 10.0);  // defect: straight at the goal, full speed
@@ -210,7 +206,7 @@ TEST(Defects, AllBlockedSlowsShrinksThenStopsOrBacksOff) {
 TEST(Defects, AllBlockedAtFullRangeShrinksAndSlows) {
   AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
-  const auto wall = list_of({seg(3.0, -20.0, 3.0, 20.0)});
+  const auto wall = list_of({segment(3.0, -20.0, 3.0, 20.0)});
   Avoidance a = make(Strategy::kSelection, p);
   const auto d = a.decide(wall, 0.0, 0);
   EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow);
@@ -224,7 +220,8 @@ TEST(Defects, ShrinkingFindsTheGapBetweenNearBuoysUnderAFarWall) {
   // range is shrunk. The goal is at 20 deg: steer into the gap, at the side nearest the goal.
   AvoidanceParams p = plain_params();
   p.fan = {-60.0, 60.0, 1.0};
-  const auto l = list_of({seg(4.0, -20.0, 4.0, 20.0), buoy(2.5, -30.0, 0.1), buoy(2.5, 30.0, 0.1)});
+  const auto l =
+      list_of({segment(4.0, -20.0, 4.0, 20.0), buoy(2.5, -30.0, 0.1), buoy(2.5, 30.0, 0.1)});
   Avoidance a = make(Strategy::kSelection, p);
   const auto d = a.decide(l, 20.0, 0);
   EXPECT_EQ(d.status, AvoidanceStatus::kBlockedSlow);
@@ -310,13 +307,13 @@ TEST(Avoidance, SwitchesSideOnlyWhenClearlyBetterAfterTheHoldTime) {
   auto d = a.decide(list_of({buoy(3.0, 2.0)}), 0.0, 0);
   ASSERT_EQ(d.side, Side::kPort);
   // A long obstacle now extends far to port: starboard is much better, but the hold is on.
-  const auto shifted = list_of({seg(3.0, -6.0, 3.0, 0.3)});
+  const auto shifted = list_of({segment(3.0, -6.0, 3.0, 0.3)});
   d = a.decide(shifted, 0.0, 5 * kTick);
   EXPECT_EQ(d.side, Side::kPort);
   d = a.decide(shifted, 0.0, 20 * kTick);  // hold over, better by far more than hysteresis
   EXPECT_EQ(d.side, Side::kStarboard);
   // The kept side losing every safe bin forces a switch at once, hold or not.
-  const auto port_closed = list_of({seg(2.0, -8.0, 2.0, 0.2), seg(0.0, -1.0, 2.0, -1.0)});
+  const auto port_closed = list_of({segment(2.0, -8.0, 2.0, 0.2), segment(0.0, -1.0, 2.0, -1.0)});
   Avoidance b = make(Strategy::kSelection);
   ASSERT_EQ(b.decide(list_of({buoy(3.0, 2.0)}), 0.0, 0).side, Side::kPort);
   EXPECT_EQ(b.decide(port_closed, 0.0, kTick).side, Side::kStarboard);
@@ -340,7 +337,7 @@ AvoidanceParams swept() {
 
 TEST(SweptHull, BuoyAlongsideTheStarboardSideRefusesAHardTurnToPort) {
   // A buoy's face 0.4 m off the starboard side, aft of the bow; the goal 60 deg to port.
-  const auto alongside = list_of({seg(-0.35, 0.8, -0.65, 0.8)});
+  const auto alongside = list_of({segment(-0.35, 0.8, -0.65, 0.8)});
   for (const Strategy s : kOurs) {
     Avoidance plain = make(s);
     const auto d0 = plain.decide(alongside, -60.0, 0);
@@ -355,7 +352,7 @@ TEST(SweptHull, BuoyAlongsideTheStarboardSideRefusesAHardTurnToPort) {
   }
   // The same buoy on the port quarter mirrors it.
   Avoidance m = make(Strategy::kSelection, swept());
-  const auto e = m.decide(list_of({seg(-0.35, -0.8, -0.65, -0.8)}), 60.0, 0);
+  const auto e = m.decide(list_of({segment(-0.35, -0.8, -0.65, -0.8)}), 60.0, 0);
   EXPECT_LT(e.sweep_starboard_deg, 60.0);
   EXPECT_GE(e.sweep_port_deg, 89.5);
   EXPECT_LE(e.bearing_body_deg, e.sweep_starboard_deg + 0.5);
@@ -364,7 +361,7 @@ TEST(SweptHull, BuoyAlongsideTheStarboardSideRefusesAHardTurnToPort) {
 TEST(SweptHull, ABuoyAlreadyInsideTheClearanceDoesNotFreezeTheBoat) {
   // 0.1 m off the starboard side amidships: turning away (port) is refused at once, but the
   // boat may still go straight on or turn starboard, where the hull moves away from it.
-  const auto close = list_of({seg(-0.3, 0.5, -0.6, 0.5)});
+  const auto close = list_of({segment(-0.3, 0.5, -0.6, 0.5)});
   Avoidance a = make(Strategy::kSelection, swept());
   const auto d = a.decide(close, 30.0, 0);
   EXPECT_LE(d.sweep_port_deg, 0.5 + 1e-9);
@@ -390,7 +387,7 @@ TEST(SweptHull, TheArcToAHeadingIsCheckedNotJustTheRayFromTheBow) {
 TEST(SweptHull, NoArcLeftFallsBackToTheRaysInsteadOfStoppingForGood) {
   // A wall 1.6 m ahead ending 1 m to starboard, a buoy abeam to starboard: no arc of the turn
   // radius gets out, but a boat at rest can turn onto a gap the bow rays see (about 60 deg).
-  const auto l = list_of({seg(1.6, -6.0, 1.6, 1.0), seg(-0.15, 1.8, -0.45, 1.8)});
+  const auto l = list_of({segment(1.6, -6.0, 1.6, 1.0), segment(-0.15, 1.8, -0.45, 1.8)});
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore}) {
     Avoidance plain = make(s);
     const auto p = plain.decide(l, 80.0, 0);
@@ -434,7 +431,7 @@ TEST(Avoidance, Deterministic) {
     for (int k = 0; k < 40; ++k) {
       const double t = 0.37 * k;
       const auto l = list_of({buoy(2.0 + std::fmod(t, 5.0), 30.0 * std::sin(t)),
-                              seg(5.0, -4.0 + std::cos(t), 6.0, 3.0), buoy(1.5, -70.0)});
+                              segment(5.0, -4.0 + std::cos(t), 6.0, 3.0), buoy(1.5, -70.0)});
       const double goal = 40.0 * std::sin(0.1 * k);
       const auto x = a.decide(l, goal, k * kTick);
       const auto y = b.decide(l, goal, k * kTick);
@@ -452,8 +449,8 @@ TEST(Avoidance, Deterministic) {
 // worked out again) gives bit for bit the same decisions.
 TEST(Avoidance, ReusedGeometryDecidesAsFreshGeometry) {
   bool fresh_order = true;
-  const ObstacleList list = list_of({buoy(3.0, 5.0), buoy(4.5, -20.0), seg(2.0, 2.0, 2.5, 3.5),
-                                     seg(1.2, -1.5, 1.4, -0.6), buoy(6.0, 40.0)});
+  const ObstacleList list = list_of({buoy(3.0, 5.0), buoy(4.5, -20.0), segment(2.0, 2.0, 2.5, 3.5),
+                                     segment(1.2, -1.5, 1.4, -0.6), buoy(6.0, 40.0)});
   ObstacleList reversed = list;
   std::reverse(reversed.segments.begin(), reversed.segments.begin() + reversed.count);
   for (const Strategy s : {Strategy::kSelection, Strategy::kScore, Strategy::kRiskBin}) {

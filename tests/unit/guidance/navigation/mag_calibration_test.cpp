@@ -13,8 +13,6 @@
 namespace coxswain::guidance {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 /// A slow turn in place through `turn_deg` of a board whose field is stretched (soft iron) and
 /// shifted (hard iron), with sensor noise.
 std::vector<std::array<double, 2>> turn(double turn_deg, std::uint64_t seed) {
@@ -22,7 +20,7 @@ std::vector<std::array<double, 2>> turn(double turn_deg, std::uint64_t seed) {
   std::normal_distribution<double> noise(0.0, 0.3);
   std::vector<std::array<double, 2>> out;
   for (int i = 0; i < 400; ++i) {
-    const double psi = turn_deg * i / 400.0 * kPi / 180.0;
+    const double psi = turn_deg * i / 400.0 * core::kPi / 180.0;
     // True field seen by the board: 30 uT toward magnetic north.
     const double x = 30.0 * std::cos(psi);
     const double y = -30.0 * std::sin(psi);
@@ -49,8 +47,8 @@ TEST(MagCalibration, AFullTurnRecoversTheHardIronAndMakesTheHeadingRight) {
     const double truth = core::wrap_deg(360.0 * i / 400.0);
     const auto& s = samples[static_cast<std::size_t>(i)];
     worst = std::max(worst, std::abs(core::wrap_deg(cal->heading_deg(s[0], s[1]) - truth)));
-    worst_raw = std::max(worst_raw,
-                         std::abs(core::wrap_deg(std::atan2(-s[1], s[0]) * 180.0 / kPi - truth)));
+    worst_raw = std::max(
+        worst_raw, std::abs(core::wrap_deg(std::atan2(-s[1], s[0]) * 180.0 / core::kPi - truth)));
   }
   EXPECT_GT(worst_raw, 20.0);
   EXPECT_LT(worst, 4.0);
