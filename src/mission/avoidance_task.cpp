@@ -94,7 +94,7 @@ class AvoidanceTask final : public AvoidingTask {
     core::NavPoint aim = goal;
     // The last metres through a gate are the avoidance's: the inflated buoys leave the planner
     // a passage only a cell or two wide.
-    const bool in_gate_mouth = judge_gates_ && gate_.seen && gate_side(ctx.antenna) < 0.0 &&
+    const bool in_gate_mouth = judge_gates_ && gate_.seen && gate_side(gate_, ctx.antenna) < 0.0 &&
                                core::distance_m(ctx.antenna, gate_.mid()) < kGateMouthM;
     if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && !in_gate_mouth) {
       replan(ctx, goal);
@@ -166,6 +166,7 @@ class AvoidanceTask final : public AvoidingTask {
   static constexpr double kBuoyIsolationM = 0.8;
   static constexpr double kStepGapS = 1.0;  // steps further apart: the task was paused (hold)
   static constexpr double kGateMouthM = 3.0;
+  static constexpr double kGateLookaheadM = 4.0;
 
   [[nodiscard]] core::NavPoint target() const { return route_.points[index_]; }
 
@@ -179,10 +180,26 @@ class AvoidanceTask final : public AvoidingTask {
     return {dn / len, de / len};
   }
 
-  /// The gate's forward normal: square to the buoys' line, on the leg's side.
-  [[nodiscard]] core::NavPoint gate_normal() const {
-    const double dn = gate_.right.north_m - gate_.left.north_m;
-    const double de = gate_.right.east_m - gate_.left.east_m;
+  /// The obstacle course judges each waypoint as a gate; course 1's waypoint is a place.
+  [[nodiscard]] bool gates_judged() const { return judge_gates_ && !course1_; }
+
+  /// The gate being judged: the buoys as the lidar places them, or (none seen, obstacle course)
+  /// the nominal gate, planning.gates.width_m wide, square to the leg through the waypoint.
+  [[nodiscard]] GateTrack judged_gate() const {
+    if (gate_.seen) return gate_;
+    const core::NavPoint t = target();
+    const core::NavPoint l = leg_dir();
+    const double half = 0.5 * gates_.width_m;
+    const core::NavPoint port{l.east_m, -l.north_m};  // the leg turned 90 deg to port
+    return {true,
+            {t.north_m + half * port.north_m, t.east_m + half * port.east_m},
+            {t.north_m - half * port.north_m, t.east_m - half * port.east_m}};
+  }
+
+  /// A gate's forward normal: square to the line between its ends, on the leg's side.
+  [[nodiscard]] core::NavPoint gate_normal(const GateTrack& g) const {
+    const double dn = g.right.north_m - g.left.north_m;
+    const double de = g.right.east_m - g.left.east_m;
     const double len = std::max(std::hypot(dn, de), 1e-6);
     // Left to right turned 90 deg to port is forward (north-east frame, clockwise headings).
     core::NavPoint n{de / len, -dn / len};
@@ -191,9 +208,9 @@ class AvoidanceTask final : public AvoidingTask {
     return n;
   }
 
-  [[nodiscard]] double gate_side(core::NavPoint p) const {
-    const core::NavPoint n = gate_normal();
-    const core::NavPoint c = gate_.mid();
+  [[nodiscard]] double gate_side(const GateTrack& g, core::NavPoint p) const {
+    const core::NavPoint n = gate_normal(g);
+    const core::NavPoint c = g.mid();
     return (p.north_m - c.north_m) * n.north_m + (p.east_m - c.east_m) * n.east_m;
   }
 
@@ -293,59 +310,65 @@ class AvoidanceTask final : public AvoidingTask {
   /// Judges the current waypoint; true when the route is done.
   bool advance(const TaskContext& ctx) {
     const core::NavPoint p = ctx.antenna;
-    if (judge_gates_ && gate_.seen) {
-      // Judged on the lidar's buoys: the track must cross the segment between them.
-      const double side = gate_side(p);
+    if (judge_gates_ && (gate_.seen || gates_judged())) {
+      // The track must cross the segment between the gate's ends: the buoys as the lidar places
+      // them (relative geometry, which a GNSS bias does not move), or without them the nominal
+      // gate, whose crossing must lie inside its ends by k sigma of the estimate.
+      const GateTrack g = judged_gate();
+      const double side = gate_side(g, p);
+      if (have_prev_ && prev_by_lidar_ != gate_.seen) have_prev_ = false;  // another line
       if (have_prev_ && prev_side_ < 0.0 && side >= 0.0) {
         const double f = prev_side_ / (prev_side_ - side);
         const core::NavPoint x{prev_.north_m + f * (p.north_m - prev_.north_m),
                                prev_.east_m + f * (p.east_m - prev_.east_m)};
-        const double dn = gate_.right.north_m - gate_.left.north_m;
-        const double de = gate_.right.east_m - gate_.left.east_m;
-        const double t =
-            ((x.north_m - gate_.left.north_m) * dn + (x.east_m - gate_.left.east_m) * de) /
-            std::max(dn * dn + de * de, 1e-9);
-        if (t >= 0.0 && t <= 1.0) {
-          set_reason(reason_printf("passed gate %zu between its buoys (lidar, %.0f%% across)",
-                                   index_ + 1, 100.0 * t));
+        const double dn = g.right.north_m - g.left.north_m;
+        const double de = g.right.east_m - g.left.east_m;
+        const double width = std::max(std::hypot(dn, de), 1e-9);
+        const double across =
+            ((x.north_m - g.left.north_m) * dn + (x.east_m - g.left.east_m) * de) / width;
+        double margin = 0.0;
+        if (!gate_.seen && ctx.position_cov_valid && wp_.arrival_confidence > 0.0) {
+          margin = k_sigma_ * ctx.position_cov.sigma_along_m(core::rad_to_deg(std::atan2(de, dn)));
+        }
+        const char* by = gate_.seen ? "lidar" : "GNSS";
+        if (across >= margin && across <= width - margin) {
+          set_reason(reason_printf("passed gate %zu between its %s (%s, %.0f%% across)", index_ + 1,
+                                   gate_.seen ? "buoys" : "ends", by, 100.0 * across / width));
           if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
             set_phase(course1_ ? "to_waypoint" : "navigate", reason());
           }
           next_waypoint(ctx, true);
           return index_ >= route_.count;
         }
-        const double out_m =
-            t < 0.0 ? -t * std::sqrt(dn * dn + de * de) : (t - 1.0) * std::sqrt(dn * dn + de * de);
-        set_phase("turn_back", reason_printf("missed gate %zu: crossed %.1f m outside its %s buoy; "
-                                             "turning back",
-                                             index_ + 1, out_m, t < 0.0 ? "port" : "starboard"));
+        const bool port = across < 0.5 * width;
+        const double out_m = port ? margin - across : across - (width - margin);
+        set_phase("turn_back",
+                  reason_printf("missed gate %zu: crossed %.1f m outside its %s %s (%s); "
+                                "turning back",
+                                index_ + 1, out_m, port ? "port" : "starboard",
+                                gate_.seen ? "buoy" : "end", by));
         ++ctx.status->waypoints_missed;
-      } else if (have_prev_ && prev_side_ >= 0.0 && side < 0.0 && phase() == "turn_back") {
+      } else if (side < -0.5 * gates_.approach_m && phase() == "turn_back") {
+        // Well before the line, so the next try comes at it square, not still turning.
         set_phase(course1_ ? "to_waypoint" : "navigate",
                   reason_printf("back before gate %zu", index_ + 1));
       }
       prev_ = p;
       prev_side_ = side;
+      prev_by_lidar_ = gate_.seen;
       have_prev_ = true;
       return false;
     }
-    // Fallback (no buoys seen): the position estimate inside the arrival radius, or passed
-    // abeam. With the filter's covariance the estimate must be confidently inside the rule's
-    // radius, so an uncertain estimate (an outage, a bias not yet pinned) never counts a gate.
+    // A place (course 1's waypoint, or gates not judged): the position estimate inside the
+    // arrival radius, or passed abeam. With the filter's covariance the estimate must be
+    // confidently inside the rule's radius, so an uncertain estimate (an outage, a bias not yet
+    // pinned) never counts it.
     const core::NavPoint t = target();
     const double dist = core::distance_m(p, t);
     const bool by_confidence = ctx.position_cov_valid && wp_.arrival_confidence > 0.0;
-    const bool inside = by_confidence ? guidance::confidently_within(p, ctx.position_cov, t,
-                                                                     wp_.rule_radius_m, k_sigma_)
-                                      : dist <= wp_.arrival_radius_m;
-    // A gate is passed going forward: a boat that comes at its point from beyond, heading back
-    // along the leg, has not passed it (it sails on through and turns).
-    const core::NavPoint fwd = leg_dir();
-    const double heading_rad = core::deg_to_rad(ctx.pose.heading_deg);
-    const bool going_forward =
-        !judge_gates_ ||
-        std::cos(heading_rad) * fwd.north_m + std::sin(heading_rad) * fwd.east_m > 0.0;
-    const bool arrived = inside && going_forward;
+    const bool arrived = by_confidence ? guidance::confidently_within(p, ctx.position_cov, t,
+                                                                      wp_.rule_radius_m, k_sigma_)
+                                       : dist <= wp_.arrival_radius_m;
     if (arrived) {
       set_reason(reason_printf("arrived at waypoint %zu (%.1f m, GNSS)", index_ + 1, dist).view());
       next_waypoint(ctx, true);
@@ -364,11 +387,18 @@ class AvoidanceTask final : public AvoidingTask {
   /// Where the path goes: through the gate (to a point beyond it) when the boat is before it,
   /// back to a point before it when past it; else the waypoint.
   [[nodiscard]] core::NavPoint steering_goal(const TaskContext& ctx) const {
-    if (!(judge_gates_ && gate_.seen)) return target();
-    const core::NavPoint n = gate_normal();
-    const core::NavPoint c = gate_.mid();
-    const double side = gate_side(ctx.antenna);
-    const double k = side < 0.0 ? 1.5 : -gates_.approach_m;
+    if (!(judge_gates_ && (gate_.seen || gates_judged()))) return target();
+    const GateTrack g = judged_gate();
+    const core::NavPoint n = gate_normal(g);
+    const core::NavPoint c = g.mid();
+    const double side = gate_side(g, ctx.antenna);
+    // Before a gate judged on the estimate: a point on its centre line kGateLookaheadM ahead of
+    // the boat (from approach_m before the gate to 1.5 m beyond it), so the boat comes at it
+    // square and on the centre line, where the estimate's error matters least. Buoys in sight:
+    // through the gate they mark.
+    const double ahead =
+        gate_.seen ? 1.5 : std::clamp(side + kGateLookaheadM, -gates_.approach_m, 1.5);
+    const double k = side < 0.0 ? ahead : -gates_.approach_m;
     return {c.north_m + k * n.north_m, c.east_m + k * n.east_m};
   }
 
@@ -536,6 +566,8 @@ class AvoidanceTask final : public AvoidingTask {
   bool have_prev_ = false;
   core::NavPoint prev_;
   double prev_side_ = 0.0;
+  bool prev_by_lidar_ =
+      false;  // prev_side_ measured from the lidar's buoys (else the nominal gate)
   // Planning.
   core::TimeNs last_plan_ns_ = core::kNeverNs;
   core::NavPoint planned_goal_;

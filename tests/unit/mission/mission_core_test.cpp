@@ -409,7 +409,7 @@ TEST(MissionObstacleCourse, UnicycleAvoidsABuoyOnTheLineAndPassesTheGate) {
   ASSERT_TRUE(done) << rig->log_text() << rig->path();
   EXPECT_TRUE(avoided);
   EXPECT_GT(closest_m, 1.0);  // the buoy's surface kept at more than 0.5 m from the track
-  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: arrived at waypoint 1"))
+  EXPECT_TRUE(rig->logged("obstacle_course/navigate -> finished: passed gate 1 between its ends"))
       << rig->log_text();
 }
 
@@ -545,9 +545,11 @@ TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrives
   EXPECT_LT(rig->position.north_m, 8.0);
 }
 
-// With no buoys in sight the gate falls back to the position estimate, but only going forward:
-// a boat that comes at the gate's point from beyond, heading back, has not passed it.
-TEST(MissionObstacleCourse, TheEstimateCountsAGateOnlyWhenTheBoatHeadsForwardAlongTheLeg) {
+// With no buoys in sight the gate is judged on the position estimate as a line square to the leg,
+// planning.gates.width_m wide: it counts only when the track crosses it forward between its
+// ends. Through it backwards, or forward outside an end, it does not; the miss turns the boat
+// back.
+TEST(MissionObstacleCourse, WithoutBuoysTheEstimateMustCrossTheGateForwardBetweenItsEnds) {
   config::Configuration c = gate_config();
   c.mission.planning.planner.enabled = false;
   auto rig = std::make_unique<Rig>(c);
@@ -556,19 +558,28 @@ TEST(MissionObstacleCourse, TheEstimateCountsAGateOnlyWhenTheBoatHeadsForwardAlo
   };
   rig->run_for(1.0);
   ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
-  // Round the gate's point at a distance, then at it from beyond, heading south: not counted.
+  // Round the gate at a distance, then through its centre from beyond, heading south.
   sail({10.0, 6.0}, 30.0, 8.0);
   sail({26.0, 6.0}, 0.0, 10.0);
   sail({26.0, 0.0}, 270.0, 4.0);
   sail({14.0, 0.0}, 180.0, 8.0);
   EXPECT_FALSE(rig->out.status.finished) << rig->log_text();
-  EXPECT_FALSE(rig->logged("arrived at waypoint 1")) << rig->log_text();
-  // Round again and through it heading north: counted.
-  sail({14.0, -4.0}, 270.0, 3.0);
-  sail({12.0, 0.0}, 60.0, 3.0);
+  EXPECT_FALSE(rig->logged("passed gate 1")) << rig->log_text();
+  // Forward, 3 m east of the centre (outside the 1.5 m half-width): a miss, turn back.
+  sail({14.0, 3.0}, 90.0, 3.0);
+  sail({24.0, 3.0}, 0.0, 8.0);
+  EXPECT_FALSE(rig->out.status.finished) << rig->log_text();
+  EXPECT_TRUE(rig->logged("-> obstacle_course/turn_back: missed gate 1: crossed"))
+      << rig->log_text();
+  // (Rounding it 6 m east of the centre, heading north, crossed the line outside as well.)
+  EXPECT_EQ(rig->out.status.waypoints_missed, 2U);
+  // Back before it, then through the centre heading north: counted.
+  sail({14.0, 3.0}, 180.0, 8.0);
+  EXPECT_TRUE(rig->logged("back before gate 1")) << rig->log_text();
+  sail({14.0, 0.0}, 270.0, 3.0);
   sail({24.0, 0.0}, 0.0, 8.0);
   EXPECT_TRUE(rig->out.status.finished) << rig->log_text();
-  EXPECT_TRUE(rig->logged("arrived at waypoint 1")) << rig->log_text();
+  EXPECT_TRUE(rig->logged("passed gate 1 between its ends (GNSS")) << rig->log_text();
 }
 
 // A hull held fast (its bow on a wall, say) while the task means to sail: with the planner and

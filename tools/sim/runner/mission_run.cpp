@@ -51,24 +51,13 @@ config::MissionConfig fit_mission_to_course(const config::MissionConfig& mission
         break;
       case config::TaskType::kObstacleCourse:
         if (!world.gates.empty()) {
-          // Through the centre of every gate in order (the judge needs each crossed between its
-          // buoys; avoidance may have pushed the boat aside before the last one), then a point
-          // 2 m beyond the last gate so the task ends only after the crossing (the pool's wall
-          // may be 3 m behind it).
+          // Through the centre of every gate in order: the task judges each as a line the
+          // track must cross between its ends, so the last crossing ends it.
           task.waypoints.clear();
           for (const auto& g : world.gates) {
             task.waypoints.push_back(geo({(g.left.north_m + g.right.north_m) / 2.0,
                                           (g.left.east_m + g.right.east_m) / 2.0}));
           }
-          const auto& g = world.gates.back();
-          const core::NavPoint c{(g.left.north_m + g.right.north_m) / 2.0,
-                                 (g.left.east_m + g.right.east_m) / 2.0};
-          // Forward of the gate: the left-to-right direction turned 90 deg to port (heading - 90).
-          const double dn = g.right.north_m - g.left.north_m;
-          const double de = g.right.east_m - g.left.east_m;
-          const double len = std::hypot(dn, de);
-          const core::NavPoint goal{c.north_m + 2.0 * de / len, c.east_m - 2.0 * dn / len};
-          task.waypoints.push_back(geo(goal));
         }
         break;
       case config::TaskType::kDocking:

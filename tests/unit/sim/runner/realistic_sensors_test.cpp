@@ -92,11 +92,10 @@ TEST(FitMission, TakesTheCourseGeometry) {
   const config::Configuration config = load_config("obstacle_course.yaml");
   const config::MissionConfig m = fit_mission_to_course(config.mission, course.world);
   ASSERT_EQ(m.tasks.size(), 1U);
-  // Through the centre of every gate in order, then 2 m past the last (so the task ends only
-  // after the judge's crossing).
+  // Through the centre of every gate in order (the task ends on crossing the last).
   const auto& gates = course.world.gates;
   ASSERT_FALSE(gates.empty());
-  ASSERT_EQ(m.tasks[0].waypoints.size(), gates.size() + 1);
+  ASSERT_EQ(m.tasks[0].waypoints.size(), gates.size());
   const core::LocalFrame frame(course.world.origin);
   for (std::size_t i = 0; i < gates.size(); ++i) {
     const core::NavPoint c = frame.to_nav(m.tasks[0].waypoints[i]);
@@ -105,7 +104,7 @@ TEST(FitMission, TakesTheCourseGeometry) {
   }
   const core::NavPoint goal = frame.to_nav(m.tasks[0].waypoints.back());
   // The finish gate is at north 40 m, centred on east 0; the course runs north.
-  EXPECT_NEAR(goal.north_m, 42.0, 1e-3);
+  EXPECT_NEAR(goal.north_m, 40.0, 1e-3);
   EXPECT_NEAR(goal.east_m, 0.0, 1e-3);
   // The engine parameters are untouched.
   EXPECT_EQ(m.avoidance.strategy, config.mission.avoidance.strategy);
