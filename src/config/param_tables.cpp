@@ -177,6 +177,13 @@ using guidance::WaypointFollowerParams;
 constexpr std::array kWaypoints{
     real_param<WaypointFollowerParams, &WaypointFollowerParams::arrival_radius_m>(
         "arrival_radius_m", "m", 0.05, 100.0, kFixed, "a waypoint this near is reached"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::arrival_confidence>(
+        "arrival_confidence", "", 0.0, 0.999, kFixed,
+        "with the filter's covariance: how sure the estimate must be (0, or 0.5 and up; 0 = "
+        "arrival_radius_m always); also the margin inside a gate's ends"),
+    real_param<WaypointFollowerParams, &WaypointFollowerParams::rule_radius_m>(
+        "rule_radius_m", "m", 0.05, 100.0, kFixed,
+        "the rules' circle at the antenna, judged with arrival_confidence"),
     real_param<WaypointFollowerParams, &WaypointFollowerParams::slip_radius_m>(
         "slip_radius_m", "m", 0.05, 100.0, kFixed,
         "passing a waypoint within this, moving away, also counts"),
