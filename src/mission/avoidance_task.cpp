@@ -348,8 +348,7 @@ class AvoidanceTask final : public AvoidingTask {
                                 index_ + 1, out_m, port ? "port" : "starboard",
                                 gate_.seen ? "buoy" : "end", by));
         ++ctx.status->waypoints_missed;
-      } else if (side < -0.5 * gates_.approach_m && phase() == "turn_back") {
-        // Well before the line, so the next try comes at it square, not still turning.
+      } else if (have_prev_ && prev_side_ >= 0.0 && side < 0.0 && phase() == "turn_back") {
         set_phase(course1_ ? "to_waypoint" : "navigate",
                   reason_printf("back before gate %zu", index_ + 1));
       }
