@@ -7,7 +7,8 @@
 #                                                     UndefinedBehaviorSanitizer in ./build-asan
 #                                                     (what CI runs)
 # COXSWAIN_JOBS sets the parallelism (default 2); COXSWAIN_UNITY=ON builds in unity batches
-# (fewer, larger compiler runs: faster on a fresh machine, no incremental benefit).
+# (fewer, larger compiler runs: faster on a fresh machine, no incremental benefit);
+# COXSWAIN_BENCH=OFF leaves the benchmarks out of the sanitizer build (they are never run there).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs="${COXSWAIN_JOBS:-2}"
@@ -25,6 +26,7 @@ fi
 # Line tables only (-g1): reports keep file:line and the tree stays small; -O1 keeps it quick.
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCOXSWAIN_WERROR=ON \
   -DCOXSWAIN_SANITIZE="$COXSWAIN_SANITIZE" -DCMAKE_CXX_FLAGS="-O1" -DCMAKE_CXX_FLAGS_DEBUG="-g1" \
+  -DCOXSWAIN_BUILD_BENCH="${COXSWAIN_BENCH:-ON}" \
   "${unity[@]}"
 cmake --build build-asan -j "$jobs"
 ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1}" \
