@@ -180,8 +180,9 @@ class AvoidanceTask final : public AvoidingTask {
     return {dn / len, de / len};
   }
 
-  /// The obstacle course judges each waypoint as a gate; course 1's waypoint is a place.
-  [[nodiscard]] bool gates_judged() const { return judge_gates_ && !course1_; }
+  /// A gate is being judged: its buoys are in sight, or (the obstacle course, whose waypoints are
+  /// all gates; course 1's waypoint is a place) the nominal gate stands in for them.
+  [[nodiscard]] bool judging_a_gate() const { return judge_gates_ && (gate_.seen || !course1_); }
 
   /// The gate being judged: the buoys as the lidar places them, or (none seen, obstacle course)
   /// the nominal gate, planning.gates.width_m wide, square to the leg through the waypoint.
@@ -310,7 +311,7 @@ class AvoidanceTask final : public AvoidingTask {
   /// Judges the current waypoint; true when the route is done.
   bool advance(const TaskContext& ctx) {
     const core::NavPoint p = ctx.antenna;
-    if (judge_gates_ && (gate_.seen || gates_judged())) {
+    if (judging_a_gate()) {
       // The track must cross the segment between the gate's ends: the buoys as the lidar places
       // them (relative geometry, which a GNSS bias does not move), or without them the nominal
       // gate, whose crossing must lie inside its ends by k sigma of the estimate.
@@ -386,7 +387,7 @@ class AvoidanceTask final : public AvoidingTask {
   /// Where the path goes: through the gate (to a point beyond it) when the boat is before it,
   /// back to a point before it when past it; else the waypoint.
   [[nodiscard]] core::NavPoint steering_goal(const TaskContext& ctx) const {
-    if (!(judge_gates_ && (gate_.seen || gates_judged()))) return target();
+    if (!judging_a_gate()) return target();
     const GateTrack g = judged_gate();
     const core::NavPoint n = gate_normal(g);
     const core::NavPoint c = g.mid();
@@ -565,8 +566,8 @@ class AvoidanceTask final : public AvoidingTask {
   bool have_prev_ = false;
   core::NavPoint prev_;
   double prev_side_ = 0.0;
-  bool prev_by_lidar_ =
-      false;  // prev_side_ measured from the lidar's buoys (else the nominal gate)
+  // prev_side_ measured from the lidar's buoys (else from the nominal gate).
+  bool prev_by_lidar_ = false;
   // Planning.
   core::TimeNs last_plan_ns_ = core::kNeverNs;
   core::NavPoint planned_goal_;

@@ -6,6 +6,7 @@
 #include "little_endian.hpp"
 
 namespace coxswain::drivers::rplidar {
+
 std::array<std::uint8_t, kDescriptorSize> encode_descriptor(AnswerType type, std::uint32_t size,
                                                             SendMode mode) {
   const std::uint32_t word = (size & 0x3FFFFFFFU) | (static_cast<std::uint32_t>(mode) << 30U);

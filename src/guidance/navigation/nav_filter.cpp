@@ -14,8 +14,6 @@ namespace {
 
 constexpr double kGravityMps2 = 9.80665;
 using core::kPi;
-constexpr double kDegToRad = kPi / 180.0;
-constexpr double kRadToDeg = 180.0 / kPi;
 // Propagation steps longer than this are split (linearisation of the heading terms).
 constexpr double kMaxStepS = 0.1;
 
@@ -62,7 +60,7 @@ std::optional<std::string> NavFilterParams::validate() const {
 }
 
 double PositionCovariance::sigma_along_m(double bearing_deg) const {
-  const double b = bearing_deg * kDegToRad;
+  const double b = bearing_deg * core::kRadPerDeg;
   const double n = std::cos(b);
   const double e = std::sin(b);
   return std::sqrt(std::max(0.0, n * n * nn_m2 + 2.0 * n * e * ne_m2 + e * e * ee_m2));
@@ -72,7 +70,7 @@ double PositionCovariance::sigma_toward_m(core::NavPoint from, core::NavPoint to
   const double dn = to.north_m - from.north_m;
   const double de = to.east_m - from.east_m;
   if (std::hypot(dn, de) < 1e-9) return sigma_major_m();
-  return sigma_along_m(std::atan2(de, dn) * kRadToDeg);
+  return sigma_along_m(std::atan2(de, dn) * core::kDegPerRad);
 }
 
 void PositionCovariance::axes(double& major_m, double& minor_m, double& major_bearing_deg) const {
@@ -81,7 +79,7 @@ void PositionCovariance::axes(double& major_m, double& minor_m, double& major_be
   const double r = std::sqrt(half * half + ne_m2 * ne_m2);
   major_m = std::sqrt(std::max(0.0, mean + r));
   minor_m = std::sqrt(std::max(0.0, mean - r));
-  major_bearing_deg = 0.5 * std::atan2(2.0 * ne_m2, nn_m2 - ee_m2) * kRadToDeg;
+  major_bearing_deg = 0.5 * std::atan2(2.0 * ne_m2, nn_m2 - ee_m2) * core::kDegPerRad;
 }
 
 double PositionCovariance::sigma_major_m() const {
@@ -131,7 +129,7 @@ bool confident_crossing(core::NavPoint position, const PositionCovariance& cov, 
   const double de = right.east_m - left.east_m;
   const double length = std::hypot(dn, de);
   if (length < 1e-9) return false;
-  const double along_bearing = std::atan2(de, dn) * kRadToDeg;
+  const double along_bearing = std::atan2(de, dn) * core::kDegPerRad;
   const double s =
       ((position.north_m - left.north_m) * dn + (position.east_m - left.east_m) * de) / length;
   const double ks_along = k_sigma * cov.sigma_along_m(along_bearing);
@@ -147,10 +145,10 @@ void NavFilter::reset() {
   const double b0 = p_.initial_gnss_bias_sigma_m;
   P_(kBn, kBn) = b0 * b0;
   P_(kBe, kBe) = b0 * b0;
-  const double g0 = p_.initial_gyro_bias_sigma_dps * kDegToRad;
+  const double g0 = p_.initial_gyro_bias_sigma_dps * core::kRadPerDeg;
   P_(kBg, kBg) = g0 * g0;
   P_(kWn, kWn) = P_(kWe, kWe) = p_.gnss_bias_wander_sigma_m * p_.gnss_bias_wander_sigma_m;
-  const double m0 = p_.initial_mag_bias_sigma_deg * kDegToRad;
+  const double m0 = p_.initial_mag_bias_sigma_deg * core::kRadPerDeg;
   P_(kBm, kBm) = m0 * m0;
   P_(kPsi, kPsi) = kPi * kPi;
   const double v0 = p_.initial_velocity_sigma_mps;
@@ -180,10 +178,10 @@ void NavFilter::reset() {
   counters_ = {};
 }
 
-double NavFilter::heading_deg() const { return core::wrap_deg(x_(kPsi) * kRadToDeg); }
-double NavFilter::heading_sigma_deg() const { return std::sqrt(P_(kPsi, kPsi)) * kRadToDeg; }
-double NavFilter::yaw_rate_bias_dps() const { return x_(kBg) * kRadToDeg; }
-double NavFilter::mag_bias_deg() const { return x_(kBm) * kRadToDeg; }
+double NavFilter::heading_deg() const { return core::wrap_deg(x_(kPsi) * core::kDegPerRad); }
+double NavFilter::heading_sigma_deg() const { return std::sqrt(P_(kPsi, kPsi)) * core::kDegPerRad; }
+double NavFilter::yaw_rate_bias_dps() const { return x_(kBg) * core::kDegPerRad; }
+double NavFilter::mag_bias_deg() const { return x_(kBm) * core::kDegPerRad; }
 
 PositionCovariance NavFilter::position_covariance() const {
   return {P_(kPn, kPn), 0.5 * (P_(kPn, kPe) + P_(kPe, kPn)), P_(kPe, kPe)};
@@ -200,11 +198,11 @@ void NavFilter::predict_to(core::TimeNs now_ns) {
   const double qa = p_.accel_noise_mps2 * p_.accel_noise_mps2;
   const double qpsi = std::pow(
       (inertial_ ? p_.heading_walk_deg_per_sqrt_s : p_.heading_walk_no_gyro_deg_per_sqrt_s) *
-          kDegToRad,
+          core::kRadPerDeg,
       2);
-  const double qbg = std::pow(p_.gyro_bias_walk_dps_per_sqrt_s * kDegToRad, 2);
+  const double qbg = std::pow(p_.gyro_bias_walk_dps_per_sqrt_s * core::kRadPerDeg, 2);
   const double sw2 = p_.gnss_bias_wander_sigma_m * p_.gnss_bias_wander_sigma_m;
-  const double qbm = std::pow(p_.mag_bias_walk_deg_per_sqrt_s * kDegToRad, 2);
+  const double qbm = std::pow(p_.mag_bias_walk_deg_per_sqrt_s * core::kRadPerDeg, 2);
   // A very long gap is one step: the covariance growth is what matters then.
   const int max_steps = 100;
   for (int step = 0; step < max_steps && remaining > 0.0; ++step) {
@@ -278,10 +276,10 @@ void NavFilter::add_imu(core::TimeNs stamp_ns, double heading_deg, bool inertial
   inertial_ = inertial && std::isfinite(yaw_rate_dps) && std::isfinite(accel_fwd_g) &&
               std::isfinite(accel_stbd_g) && std::isfinite(roll_deg) && std::isfinite(pitch_deg);
   if (inertial_) {
-    rate_rps_ = yaw_rate_dps * kDegToRad;
+    rate_rps_ = yaw_rate_dps * core::kRadPerDeg;
     // Specific force = acceleration - gravity: at rest x reads sin(pitch), y -sin(roll)cos(pitch).
-    const double roll = roll_deg * kDegToRad;
-    const double pitch = pitch_deg * kDegToRad;
+    const double roll = roll_deg * core::kRadPerDeg;
+    const double pitch = pitch_deg * core::kRadPerDeg;
     acc_fwd_mps2_ = kGravityMps2 * (accel_fwd_g - std::sin(pitch));
     acc_stbd_mps2_ = kGravityMps2 * (accel_stbd_g + std::sin(roll) * std::cos(pitch));
   } else {
@@ -292,8 +290,8 @@ void NavFilter::add_imu(core::TimeNs stamp_ns, double heading_deg, bool inertial
   if (!std::isfinite(heading_deg)) return;
   last_mag_deg_ = heading_deg;
   has_mag_ = true;
-  const double z = heading_deg * kDegToRad;
-  const double r = p_.mag_noise_deg * kDegToRad;
+  const double z = heading_deg * core::kRadPerDeg;
+  const double r = p_.mag_noise_deg * core::kRadPerDeg;
   if (!has_heading_) {
     // heading = z - magnetometer bias: the bias's prior spreads into the heading.
     x_(kPsi) = wrap_rad(z - x_(kBm));
@@ -434,7 +432,7 @@ void NavFilter::update_cog(const msg::GnssFix& q) {
   if (!has_heading_ || !inertial_) return;
   const double speed = std::hypot(q.vel_north_mps, q.vel_east_mps);
   if (speed < p_.cog_min_speed_mps || speed <= 0.0) return;
-  if (std::abs(rate_rps_ - x_(kBg)) > p_.cog_max_yaw_rate_dps * kDegToRad) return;
+  if (std::abs(rate_rps_ - x_(kBg)) > p_.cog_max_yaw_rate_dps * core::kRadPerDeg) return;
   if (last_cog_ns_ != core::kNeverNs &&
       core::ns_to_sec(last_fix_ns_ - last_cog_ns_) < p_.cog_interval_s) {
     return;
@@ -446,7 +444,7 @@ void NavFilter::update_cog(const msg::GnssFix& q) {
   if (has_mag_) {
     // A slow mean of COG - magnetometer over the straight runs: a steady difference well past
     // the crab of the current is a magnetometer problem (calibration, a nearby field).
-    const double d = core::wrap_deg(cog * kRadToDeg - last_mag_deg_);
+    const double d = core::wrap_deg(cog * core::kDegPerRad - last_mag_deg_);
     const double alpha = std::clamp(dt_s / p_.mag_cog_window_s, 0.0, 1.0);
     mag_cog_mean_deg_ =
         mag_cog_weight_ == 0.0
@@ -465,7 +463,7 @@ void NavFilter::update_cog(const msg::GnssFix& q) {
   // A water current crabs the boat: its course differs from its heading by up to
   // atan(current / speed), most at low speed (a docking approach).
   const double crab =
-      std::hypot(p_.cog_crab_sigma_deg * kDegToRad, std::atan2(p_.cog_current_mps, speed));
+      std::hypot(p_.cog_crab_sigma_deg * core::kRadPerDeg, std::atan2(p_.cog_current_mps, speed));
   Eigen::Matrix<double, 1, 1> R;
   R(0, 0) = sv * sv + crab * crab;
   if (update<1>(y, H, R, p_.gate_chi2_1dof, false) == NavUpdate::kUsed) ++counters_.cog_used;
