@@ -13,6 +13,7 @@
 #include "coxswain/record/bytes.hpp"
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_reader.hpp"
+#include "coxswain/record/proto_codec.hpp"
 
 namespace coxswain::app {
 
@@ -48,11 +49,13 @@ int calibrate_mag(const std::string& recording, const std::string& devices_file,
   const record::McapReadReport report = reader.read([&](const record::McapMessageView& m) {
     if (!imu_channel) imu_channel = reader.channel_id("/imu");
     if (!imu_channel || m.channel_id != *imu_channel) return;
-    record::ByteReader r(m.data);
-    if (r.u8() != 1) return;  // layout version
-    (void)r.u64();            // store sequence
+    record::Encoding encoding = record::Encoding::kProtobuf;
+    if (!record::encoding_of(reader.channels().at(*imu_channel).message_encoding, encoding)) {
+      return;
+    }
+    std::uint64_t sequence = 0;
     msg::ImuSample s;
-    if (!record::get(r, s) || !s.has_inertial) return;
+    if (!record::decode_sample(encoding, m.data, sequence, s) || !s.has_inertial) return;
     samples.push_back({s.mag_ut[0], s.mag_ut[1]});
   });
   if (!report.error.empty() && samples.empty()) {

@@ -7,8 +7,14 @@
 #include <string>
 #include <type_traits>
 
+#include "message_fields.hpp"
+
 namespace coxswain::record {
 namespace {
+
+using detail::fields;
+using detail::lidar_header_fields;
+using detail::ListInfo;
 
 // Each message's fields are listed once, in its `fields(io, m, version)` below. The same list
 // writes (WriteIo), reads (ReadIo) and documents (DescribeIo: the schema text in every recording
@@ -103,6 +109,7 @@ void describe_type(std::string& out) {
 }
 
 struct WriteIo {
+  static constexpr bool kReads = false;
   ByteWriter& w;
   std::uint8_t version = 0;
 
@@ -117,11 +124,17 @@ struct WriteIo {
   // `count` elements of `items` (at most `max_count`), written by `element(io, item)`; the count
   // itself is a field listed before (`count_written`) or written here (`count_name`).
   template <class Items, class Element>
-  void elements(std::string_view /*count_name*/, bool count_written, std::uint32_t count,
-                std::size_t max_count, const Items& items, Element element) {
+  void elements(const ListInfo& list, std::uint32_t count, std::size_t max_count,
+                const Items& items, Element element) {
     const std::uint32_t n = count < max_count ? count : static_cast<std::uint32_t>(max_count);
-    if (!count_written) w.u32(n);
+    if (!list.count_written) w.u32(n);
     for (std::uint32_t i = 0; i < n; ++i) element(*this, items[i]);
+  }
+  // The packed layout stores columns row by row, like elements.
+  template <class Items, class Element>
+  void columns(const ListInfo& list, std::uint32_t count, std::size_t max_count, const Items& items,
+               Element element) {
+    elements(list, count, max_count, items, element);
   }
   void text(std::string_view /*name*/, std::string_view value, std::size_t max_len) {
     w.str16(value, max_len);
@@ -129,6 +142,7 @@ struct WriteIo {
 };
 
 struct ReadIo {
+  static constexpr bool kReads = true;
   ByteReader& r;
   std::uint8_t version = 0;
   bool ok = true;
@@ -142,14 +156,19 @@ struct ReadIo {
     if (version >= first_version) field(name, v);
   }
   template <class Items, class Element>
-  void elements(std::string_view /*count_name*/, bool count_written, std::uint32_t& count,
-                std::size_t max_count, Items& items, Element element) {
-    if (!count_written) count = r.u32();
+  void elements(const ListInfo& list, std::uint32_t& count, std::size_t max_count, Items& items,
+                Element element) {
+    if (!list.count_written) count = r.u32();
     if (r.underrun() || count > max_count) {
       ok = false;
       return;
     }
     for (std::uint32_t i = 0; i < count; ++i) element(*this, items[i]);
+  }
+  template <class Items, class Element>
+  void columns(const ListInfo& list, std::uint32_t& count, std::size_t max_count, Items& items,
+               Element element) {
+    elements(list, count, max_count, items, element);
   }
   template <class Setter>
   void text(std::string_view /*name*/, Setter set) {
@@ -158,6 +177,7 @@ struct ReadIo {
 };
 
 struct DescribeIo {
+  static constexpr bool kReads = false;
   std::string out;
   std::uint8_t version = 0;
 
@@ -181,18 +201,23 @@ struct DescribeIo {
     field(name, v, "since v" + std::to_string(first_version));
   }
   template <class Items, class Element>
-  void elements(std::string_view count_name, bool count_written, std::uint32_t /*count*/,
-                std::size_t /*max_count*/, const Items& items, Element element) {
-    if (!count_written) {
+  void elements(const ListInfo& list, std::uint32_t /*count*/, std::size_t /*max_count*/,
+                const Items& items, Element element) {
+    if (!list.count_written) {
       separate();
       out += "u32 ";
-      out += count_name;
+      out += list.count;
     }
     separate();
-    out += count_name;
+    out += list.count;
     out += " x (";
     element(*this, items[0]);
     out += ')';
+  }
+  template <class Items, class Element>
+  void columns(const ListInfo& list, std::uint32_t count, std::size_t max_count, const Items& items,
+               Element element) {
+    elements(list, count, max_count, items, element);
   }
   void text(std::string_view name, std::string_view /*value*/, std::size_t /*max_len*/) {
     separate();
@@ -200,150 +225,6 @@ struct DescribeIo {
     out += name;
   }
 };
-
-// Each `fields` takes `M&` (reading) or `const M&` (writing and describing).
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::GnssFix>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("source", m.source);
-  io.field("fix_type", m.fix_type);
-  io.field("fix_ok", m.fix_ok);
-  io.field("diff_soln", m.diff_soln);
-  io.field("rtk", m.rtk);
-  io.field("lat_deg", m.lat_deg);
-  io.field("lon_deg", m.lon_deg);
-  io.field("height_msl_m", m.height_msl_m);
-  io.field("h_acc_m", m.h_acc_m);
-  io.field("v_acc_m", m.v_acc_m);
-  io.field("hdop", m.hdop);
-  io.field("satellites", m.satellites);
-  io.field("velocity_valid", m.velocity_valid);
-  io.field("vel_north_mps", m.vel_north_mps);
-  io.field("vel_east_mps", m.vel_east_mps);
-  io.field("vel_down_mps", m.vel_down_mps);
-  io.field("ground_speed_mps", m.ground_speed_mps);
-  io.field("course_deg", m.course_deg);
-  io.field("utc_ns", m.utc_ns);
-  io.field("itow_ms", m.itow_ms);
-  io.since(2, "s_acc_mps", m.s_acc_mps);
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::ImuSample>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("roll_deg", m.roll_deg);
-  io.field("pitch_deg", m.pitch_deg);
-  io.field("yaw_magnetic_deg", m.yaw_magnetic_deg);
-  io.field("heading_deg", m.heading_deg);
-  io.field("accel_g", m.accel_g);
-  io.field("gyro_dps", m.gyro_dps);
-  io.field("mag_ut", m.mag_ut);
-  io.field("temperature_c", m.temperature_c);
-  io.field("has_inertial", m.has_inertial);
-  io.field("sequence", m.sequence);
-}
-
-template <class Io, class M>
-void lidar_header_fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("duration_ns", m.duration_ns);
-  io.field("max_range_m", m.max_range_m);
-  io.field("min_range_m", m.min_range_m);
-  io.field("revolution", m.revolution);
-  io.field("point_count", m.point_count);
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::LidarScan>
-void fields(Io& io, M& m) {
-  lidar_header_fields(io, m);
-  io.elements("point_count", true, m.point_count, msg::LidarScan::kMaxPoints, m.points,
-              [](auto& e, auto& p) {
-                e.field("bearing_deg", p.bearing_deg, "body frame");
-                e.field("range_m", p.range_m, "0 = no return");
-                e.field("quality", p.quality);
-                e.field("offset_us", p.offset_us);
-              });
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::CameraDetections>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("frame_index", m.frame_index);
-  io.field("image_width_px", m.image_width_px);
-  io.field("image_height_px", m.image_height_px);
-  io.elements("count", false, m.count, msg::CameraDetections::kMaxDetections, m.detections,
-              [](auto& e, auto& d) {
-                e.field("colour", d.colour);
-                e.field("shape", d.shape);
-                e.field("bearing_deg", d.bearing_deg);
-                e.field("center_x_px", d.center_x_px);
-                e.field("center_y_px", d.center_y_px);
-                e.field("width_px", d.width_px);
-                e.field("height_px", d.height_px);
-                e.field("area_px", d.area_px);
-                e.field("score", d.score);
-              });
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::ArduinoStatus>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("applied_pulse_us", m.applied_pulse_us);
-  io.field("led", m.led);
-  io.field("mode", m.mode);
-  io.field("estop", m.estop);
-  io.field("rc_present", m.rc_present);
-  io.field("failsafe", m.failsafe);
-  io.field("start_switch", m.start_switch);
-  io.field("supply_v", m.supply_v);
-  io.field("last_sequence_seen", m.last_sequence_seen);
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::OperatorInput>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("start_count", m.start_count);
-  io.field("hold_count", m.hold_count);
-  io.field("hold", m.hold);
-  io.field("target_colour", m.target_colour);
-  io.field("target_shape", m.target_shape);
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::DeviceHealth>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("device", m.device);
-  io.field("state", m.state);
-  io.field("bytes_received", m.bytes_received);
-  io.field("frames_ok", m.frames_ok);
-  io.field("checksum_errors", m.checksum_errors);
-  io.field("framing_errors", m.framing_errors);
-  io.field("dropped_frames", m.dropped_frames);
-  io.field("reopen_count", m.reopen_count);
-  io.field("last_frame_ns", m.last_frame_ns);
-  io.field("rate_hz", m.rate_hz);
-  if constexpr (std::is_same_v<Io, ReadIo>) {
-    io.text("detail", [&m](std::string_view s) { m.set_detail(s); });
-  } else {
-    io.text("detail", m.detail_text(), m.detail.size() - 1);
-  }
-}
-
-template <class Io, class M>
-requires std::same_as<std::remove_const_t<M>, msg::ActuatorCommand>
-void fields(Io& io, M& m) {
-  io.field("stamp_ns", m.stamp_ns);
-  io.field("pulse_us", m.pulse_us);
-  io.field("led", m.led);
-  io.field("active", m.active);
-}
 
 template <class M>
 void write_fields(ByteWriter& w, const M& m, std::uint8_t version) {

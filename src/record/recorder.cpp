@@ -13,6 +13,7 @@
 #include "coxswain/record/foxglove.hpp"
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_writer.hpp"
+#include "coxswain/record/proto_codec.hpp"
 #include "coxswain/record/spsc_ring.hpp"
 
 namespace coxswain::record {
@@ -82,7 +83,7 @@ struct Recorder::RawSlot {
 struct Recorder::TickSlot {
   core::TimeNs now_ns = 0;
   std::uint16_t length = 0;
-  std::array<std::uint8_t, kMaxTickBytes> bytes{};
+  std::array<std::uint8_t, proto::kMaxTickBytes> bytes{};
   std::uint16_t state_path_length = 0;
   std::array<char, kMaxStatePathBytes> state_path{};
   bool has_viz = false;
@@ -103,20 +104,20 @@ struct Recorder::LogSlot {
 struct Recorder::ParamsSlot {
   core::TimeNs stamp_ns = 0;
   std::uint32_t length = 0;
-  std::array<std::uint8_t, kMaxParameterBytes> bytes{};
+  std::array<std::uint8_t, proto::kMaxParameterBytes> bytes{};
 };
 
-/// A decoded message sampled from the store, already in its channel layout.
+/// A decoded message sampled from the store, already encoded for its channel.
 struct SampleSlot {
   RecordChannel channel = RecordChannel::kGnss;
   core::TimeNs stamp_ns = 0;
   std::uint32_t length = 0;
-  std::array<std::uint8_t, 1024> bytes{};  // the largest, a full CameraDetections, is ~520
+  std::array<std::uint8_t, 1024> bytes{};  // the largest, a full CameraDetections, is ~700
 };
 struct LidarSampleSlot {
   core::TimeNs stamp_ns = 0;
   std::uint32_t length = 0;
-  std::array<std::uint8_t, kMaxLidarBytes> bytes{};
+  std::array<std::uint8_t, proto::kMaxLidarBytes> bytes{};
 };
 
 struct Recorder::Queues {
@@ -171,12 +172,16 @@ struct Recorder::WriterState {
                                  .zstd_level = o.zstd_level,
                                  .sync = o.sync,
                                  .buffer_bytes = 1U << 20U}),
-        scratch(kMaxLidarBytes + 64),
+        scratch(Recorder::kRawSlotBytes + proto::kMaxRawOverheadBytes),
         lidar(std::make_unique<core::Sample<msg::LidarScan>>()) {}
   McapWriter writer;
   std::array<std::uint16_t, kRecordChannelCount> channel_ids{};
   std::vector<std::uint8_t> scratch;
   std::unique_ptr<core::Sample<msg::LidarScan>> lidar;  // 64 KiB: not on the stack
+  // UTC minus the recorder clock at start: message log times and viewer stamps are UTC.
+  core::TimeNs utc_offset_ns = 0;
+
+  [[nodiscard]] core::TimeNs utc(core::TimeNs stamp_ns) const { return stamp_ns + utc_offset_ns; }
   core::TimeNs last_chunk_ns = 0;
   core::TimeNs last_drop_log_ns = 0;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
@@ -233,10 +238,6 @@ foxglove::LogLevel to_foxglove_level(int spdlog_level) {
   }
 }
 
-std::uint64_t log_time(core::TimeNs stamp_ns) {
-  return stamp_ns < 0 ? 0U : static_cast<std::uint64_t>(stamp_ns);
-}
-
 }  // namespace
 
 Recorder::Recorder(RecorderOptions options, const core::LatestStore* store,
@@ -269,9 +270,8 @@ bool Recorder::start() {
     note_failure();
     return false;
   }
-  auto binary = [&](Layout layout) {
-    return w.add_schema(layout_schema_name(layout), kLayoutSchemaEncoding,
-                        layout_schema_text(layout));
+  auto protobuf = [&](Layout layout) {
+    return w.add_schema(proto_message_name(layout), kProtobufEncoding, file_descriptor_set());
   };
   auto json_schema = [&](foxglove::Schema s) {
     return w.add_schema(foxglove::schema_name(s), foxglove::kSchemaEncoding,
@@ -282,20 +282,20 @@ bool Recorder::start() {
     st.channel_ids[static_cast<std::size_t>(c)] =
         w.add_channel(schema, channel_topic(c), encoding, meta);
   };
-  const std::uint16_t raw_schema = binary(Layout::kRaw);
+  const std::uint16_t raw_schema = protobuf(Layout::kRaw);
   for (std::size_t d = 0; d < msg::kDeviceCount; ++d) {
     const auto id = static_cast<msg::DeviceId>(d);
-    channel(raw_channel(id), raw_schema, kBinaryMessageEncoding,
+    channel(raw_channel(id), raw_schema, kProtobufEncoding,
             {{"device", std::string(msg::device_name(id))}});
   }
-  channel(RecordChannel::kTick, binary(Layout::kTick), kBinaryMessageEncoding);
-  channel(RecordChannel::kGnss, binary(Layout::kGnss), kBinaryMessageEncoding);
-  channel(RecordChannel::kImu, binary(Layout::kImu), kBinaryMessageEncoding);
-  channel(RecordChannel::kLidar, binary(Layout::kLidar), kBinaryMessageEncoding);
-  channel(RecordChannel::kCamera, binary(Layout::kCamera), kBinaryMessageEncoding);
-  channel(RecordChannel::kArduino, binary(Layout::kArduino), kBinaryMessageEncoding);
-  channel(RecordChannel::kOperator, binary(Layout::kOperator), kBinaryMessageEncoding);
-  channel(RecordChannel::kHealth, binary(Layout::kHealth), kBinaryMessageEncoding);
+  channel(RecordChannel::kTick, protobuf(Layout::kTick), kProtobufEncoding);
+  channel(RecordChannel::kGnss, protobuf(Layout::kGnss), kProtobufEncoding);
+  channel(RecordChannel::kImu, protobuf(Layout::kImu), kProtobufEncoding);
+  channel(RecordChannel::kLidar, protobuf(Layout::kLidar), kProtobufEncoding);
+  channel(RecordChannel::kCamera, protobuf(Layout::kCamera), kProtobufEncoding);
+  channel(RecordChannel::kArduino, protobuf(Layout::kArduino), kProtobufEncoding);
+  channel(RecordChannel::kOperator, protobuf(Layout::kOperator), kProtobufEncoding);
+  channel(RecordChannel::kHealth, protobuf(Layout::kHealth), kProtobufEncoding);
   channel(RecordChannel::kVizFix, json_schema(foxglove::Schema::kLocationFix),
           foxglove::kMessageEncoding);
   channel(RecordChannel::kVizScan, json_schema(foxglove::Schema::kLaserScan),
@@ -305,17 +305,22 @@ bool Recorder::start() {
   channel(RecordChannel::kVizScene, json_schema(foxglove::Schema::kSceneUpdate),
           foxglove::kMessageEncoding);
   channel(RecordChannel::kLog, json_schema(foxglove::Schema::kLog), foxglove::kMessageEncoding);
-  channel(RecordChannel::kParams, binary(Layout::kParameters), kBinaryMessageEncoding);
+  channel(RecordChannel::kParams, protobuf(Layout::kParameters), kProtobufEncoding);
 
   const core::TimeNs now_ns = clock_.now_ns();
   const auto utc_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                           std::chrono::system_clock::now().time_since_epoch())
                           .count();
+  st.utc_offset_ns = utc_ns - now_ns;
   w.write_metadata("coxswain", {{"build_version", options_.build_version},
                                 {"layout_version", std::to_string(kLayoutVersion)},
+                                {"encoding", std::string(kProtobufEncoding)},
                                 {"clock_ns_at_start", std::to_string(now_ns)},
                                 {"utc_ns_at_start", std::to_string(utc_ns)},
-                                {"stamps", "log_time = steady-clock nanoseconds of the run"}});
+                                {"log_time_offset_ns", std::to_string(st.utc_offset_ns)},
+                                {"stamps",
+                                 "log_time = UTC nanoseconds = steady stamp + log_time_offset_ns; "
+                                 "the messages' own stamp fields are the steady clock"}});
   w.write_metadata("config", {{"yaml", options_.config_yaml}});
   for (const auto& [name, values] : options_.extra_metadata) {
     McapMetadataMap map;
@@ -404,8 +409,8 @@ bool Recorder::record_tick(const TickInput& tick) noexcept {
     if (tick.viz != nullptr) count_drop(RecordChannel::kVizScene);
     return false;
   }
-  const std::size_t n = encode_tick(s->bytes, tick.tick_index, tick.now_ns, *tick.snapshot,
-                                    tick.command, tick.state_path);
+  const std::size_t n = proto::encode_tick(s->bytes, tick.tick_index, tick.now_ns, *tick.snapshot,
+                                           tick.command, tick.state_path);
   s->now_ns = tick.now_ns;
   s->length = static_cast<std::uint16_t>(n);
   s->state_path_length =
@@ -431,7 +436,7 @@ bool Recorder::record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns
     count_drop(RecordChannel::kParams);
     return false;
   }
-  const std::size_t n = encode_parameters(s->bytes, tick_index, stamp_ns, values);
+  const std::size_t n = proto::encode_parameters(s->bytes, tick_index, stamp_ns, values);
   if (n == 0) {
     count_drop(RecordChannel::kParams);  // the claimed slot is reused by the next call
     return false;
@@ -480,8 +485,10 @@ void Recorder::write(RecordChannel channel, core::TimeNs stamp_ns,
                      std::span<const std::uint8_t> data) {
   const auto c = static_cast<std::size_t>(channel);
   McapWriter& w = state_->writer;
+  const core::TimeNs utc_ns = state_->utc(stamp_ns);
+  const std::uint64_t log_time_ns = utc_ns < 0 ? 0U : static_cast<std::uint64_t>(utc_ns);
   if (failed_.load(std::memory_order_relaxed) ||
-      !w.write_message(state_->channel_ids[c], log_time(stamp_ns), log_time(stamp_ns), data)) {
+      !w.write_message(state_->channel_ids[c], log_time_ns, log_time_ns, data)) {
     if (!failed_.load(std::memory_order_relaxed) && w.failed()) note_failure();
     count_drop(channel);
     return;
@@ -509,7 +516,7 @@ bool Recorder::drain_once() {
       any = true;
       const RawRecord raw{device, s->direction, s->stamp_ns,
                           std::span<const std::uint8_t>(s->bytes.data(), s->length)};
-      const std::size_t n = encode_raw(st.scratch, raw);
+      const std::size_t n = proto::encode_raw(st.scratch, raw);
       write(raw_channel(device), s->stamp_ns, std::span<const std::uint8_t>(st.scratch).first(n));
       raw_bytes_.fetch_add(s->length, std::memory_order_relaxed);
       ring.pop();
@@ -524,11 +531,12 @@ bool Recorder::drain_once() {
     if (s->has_viz) {
       if (s->viz.pose_valid) {
         write(RecordChannel::kVizPose, s->now_ns,
-              foxglove::frame_transform_json(s->now_ns, s->viz));
+              foxglove::frame_transform_json(st.utc(s->now_ns), s->viz));
       }
       write(RecordChannel::kVizScene, s->now_ns,
             foxglove::scene_update_json(
-                s->now_ns, s->viz, std::string_view(s->state_path.data(), s->state_path_length)));
+                st.utc(s->now_ns), s->viz,
+                std::string_view(s->state_path.data(), s->state_path_length)));
     }
     queues_->tick.pop();
   }
@@ -545,7 +553,7 @@ bool Recorder::drain_once() {
     if (s == nullptr) break;
     any = true;
     write(RecordChannel::kLog, s->stamp_ns,
-          foxglove::log_json(s->stamp_ns, to_foxglove_level(s->level),
+          foxglove::log_json(st.utc(s->stamp_ns), to_foxglove_level(s->level),
                              std::string_view(s->name.data(), s->name_length),
                              std::string_view(s->text.data(), s->text_length)));
     queues_->log.pop();
@@ -559,7 +567,8 @@ bool Recorder::drain_once() {
     if (s->channel == RecordChannel::kGnss) {
       std::uint64_t seq = 0;
       msg::GnssFix fix;
-      if (decode_sample(data, seq, fix)) {
+      if (proto::decode_sample(data, seq, fix)) {
+        fix.stamp_ns = st.utc(fix.stamp_ns);
         write(RecordChannel::kVizFix, s->stamp_ns, foxglove::location_fix_json(fix));
       }
     }
@@ -572,7 +581,8 @@ bool Recorder::drain_once() {
     const std::span<const std::uint8_t> data(s->bytes.data(), s->length);
     write(RecordChannel::kLidar, s->stamp_ns, data);
     std::uint64_t seq = 0;
-    if (decode_sample(data, seq, st.lidar->value)) {
+    if (proto::decode_sample(data, seq, st.lidar->value)) {
+      st.lidar->value.stamp_ns = st.utc(st.lidar->value.stamp_ns);
       write(RecordChannel::kVizScan, s->stamp_ns,
             foxglove::laser_scan_json(st.lidar->value, options_.scan_viz_bins));
     }
@@ -599,8 +609,8 @@ bool Recorder::sample_store() {
     }
     s->channel = ch;
     s->stamp_ns = sample_out.stamp_ns;
-    s->length =
-        static_cast<std::uint32_t>(encode_sample(s->bytes, sample_out.sequence, sample_out.value));
+    s->length = static_cast<std::uint32_t>(
+        proto::encode_sample(s->bytes, sample_out.sequence, sample_out.value));
     queues_->samples.publish();
   };
   core::Sample<msg::GnssFix> gnss;
@@ -632,7 +642,8 @@ bool Recorder::sample_store() {
         count_drop(RecordChannel::kLidar);
       } else {
         s->stamp_ns = scan.stamp_ns;
-        s->length = static_cast<std::uint32_t>(encode_sample(s->bytes, scan.sequence, scan.value));
+        s->length =
+            static_cast<std::uint32_t>(proto::encode_sample(s->bytes, scan.sequence, scan.value));
         queues_->lidar_samples.publish();
       }
     }

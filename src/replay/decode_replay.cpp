@@ -11,6 +11,7 @@
 #include "coxswain/drivers/rplidar/codec.hpp"
 #include "coxswain/drivers/ublox/codec.hpp"
 #include "coxswain/record/layouts.hpp"
+#include "coxswain/record/proto_codec.hpp"
 #include "coxswain/record/recorder.hpp"
 
 namespace coxswain::replay {
@@ -59,17 +60,23 @@ DecodeReplayReport decode_replay(const std::filesystem::path& mcap,
 
   // Channel id -> what it is, filled once the channel records have been read.
   std::map<std::uint16_t, std::string> topics;
+  std::map<std::uint16_t, Encoding> encodings;
   std::map<std::string, std::uint64_t> topic_counts;
   report.file = reader.read([&](const McapMessageView& m) {
     if (topics.empty()) {
-      for (const auto& [id, c] : reader.channels()) topics[id] = c.topic;
+      for (const auto& [id, c] : reader.channels()) {
+        topics[id] = c.topic;
+        Encoding e = Encoding::kProtobuf;
+        if (encoding_of(c.message_encoding, e)) encodings[id] = e;
+      }
     }
     const auto it = topics.find(m.channel_id);
     if (it == topics.end()) return;
     ++topic_counts[it->second];
     if (!it->second.starts_with("/raw/")) return;
+    const auto encoding = encodings.find(m.channel_id);
     RawRecord raw;
-    if (!decode_raw(m.data, raw)) return;
+    if (encoding == encodings.end() || !decode_raw(encoding->second, m.data, raw)) return;
     DeviceDecodeCounts& c = counts[static_cast<std::size_t>(raw.device)];
     ++c.raw_messages;
     if (raw.direction == drivers::RawDirection::kToDevice) {

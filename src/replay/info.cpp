@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <ctime>
 #include <map>
+#include <memory>
 #include <optional>
 #include <regex>
 #include <sstream>
 
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_reader.hpp"
+#include "coxswain/record/proto_codec.hpp"
 #include "coxswain/replay/replay.hpp"
 
 namespace coxswain::replay {
@@ -137,9 +139,12 @@ RecordingInfo recording_info(const fs::path& mcap) {
       }
     }
   }
-  if (!last_tick.empty()) {
-    record::TickRecordData tick;
-    if (record::decode_tick(last_tick, tick)) info.final_state = tick.state_path;
+  record::Encoding encoding = record::Encoding::kProtobuf;
+  if (const auto tick_id = reader.channel_id("/tick");
+      !last_tick.empty() && tick_id &&
+      record::encoding_of(reader.channels().at(*tick_id).message_encoding, encoding)) {
+    auto tick = std::make_unique<record::TickRecordData>();  // a snapshot holds a 64 KiB scan
+    if (record::decode_tick(encoding, last_tick, *tick)) info.final_state = tick->state_path;
   }
   for (const auto& [id, channel] : reader.channels()) {
     ChannelSummary s;

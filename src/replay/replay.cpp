@@ -100,14 +100,22 @@ Recording load_recording(const fs::path& mcap) {
   std::optional<std::uint16_t> scene_id;
   std::optional<std::uint16_t> pose_id;
   std::optional<std::uint16_t> params_id;
+  bool encoding_known = false;
   rec.file = reader.read([&](const record::McapMessageView& m) {
+    if (!tick_id) tick_id = reader.channel_id("/tick");
+    if (tick_id && !encoding_known) {
+      // Every message channel of a recording is written in one encoding: the tick's.
+      encoding_known =
+          record::encoding_of(reader.channels().at(*tick_id).message_encoding, rec.encoding);
+    }
     if (!params_id) params_id = reader.channel_id("/params");
     if (params_id && m.channel_id == *params_id) {
       record::ParameterSetRecord set;
-      if (record::decode_parameters(m.data, set)) rec.parameter_sets.push_back(std::move(set));
+      if (record::decode_parameters(rec.encoding, m.data, set)) {
+        rec.parameter_sets.push_back(std::move(set));
+      }
       return;
     }
-    if (!tick_id) tick_id = reader.channel_id("/tick");
     if (!lidar_id) lidar_id = reader.channel_id("/lidar");
     if (!scene_id) scene_id = reader.channel_id("/viz/scene");
     if (!pose_id) pose_id = reader.channel_id("/tf");
@@ -117,11 +125,11 @@ Recording load_recording(const fs::path& mcap) {
       rec.viz_pose[m.log_time_ns] = fnv1a(m.data);
     } else if (tick_id && m.channel_id == *tick_id) {
       rec.ticks.emplace_back(m.data.begin(), m.data.end());
-    } else if (lidar_id && m.channel_id == *lidar_id && m.data.size() >= 9) {
-      record::ByteReader r(m.data);
-      (void)r.u8();
-      const std::uint64_t sequence = r.u64();
-      rec.lidar[sequence].assign(m.data.begin(), m.data.end());
+    } else if (lidar_id && m.channel_id == *lidar_id) {
+      std::uint64_t sequence = 0;
+      if (record::peek_sequence(rec.encoding, m.data, sequence)) {
+        rec.lidar[sequence].assign(m.data.begin(), m.data.end());
+      }
     }
   });
   if (!rec.file.header_ok) {
@@ -130,6 +138,16 @@ Recording load_recording(const fs::path& mcap) {
   }
   if (const auto it = rec.file.metadata.find("config"); it != rec.file.metadata.end()) {
     if (const auto y = it->second.find("yaml"); y != it->second.end()) rec.config_yaml = y->second;
+  }
+  if (const auto it = rec.file.metadata.find("coxswain"); it != rec.file.metadata.end()) {
+    if (const auto o = it->second.find("log_time_offset_ns"); o != it->second.end()) {
+      rec.log_time_offset_ns = std::strtoll(o->second.c_str(), nullptr, 10);
+    }
+  }
+  if (tick_id && !encoding_known) {
+    rec.error = "the /tick channel's message encoding '" +
+                reader.channels().at(*tick_id).message_encoding + "' is not one this build reads";
+    return rec;
   }
   if (!reader.channel_id("/tick")) {
     rec.error = "the recording has no /tick channel";
@@ -208,7 +226,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
   std::size_t next_set = 0;  // recording.parameter_sets[next_set] is the next to apply
 
   for (const auto& bytes : recording.ticks) {
-    if (!record::decode_tick(bytes, *tick)) {
+    if (!record::decode_tick(recording.encoding, bytes, *tick)) {
       ++report.ticks_undecodable;
       continue;
     }
@@ -230,7 +248,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
       scan_loaded = false;
       if (const auto it = recording.lidar.find(seq); it != recording.lidar.end()) {
         std::uint64_t s = 0;
-        scan_loaded = record::decode_sample(it->second, s, *scan);
+        scan_loaded = record::decode_sample(recording.encoding, it->second, s, *scan);
       }
     }
     if (seq != 0) {
@@ -270,13 +288,14 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
       note("state_path", std::string(recorded_cut), std::string(path));
     }
     // The visualization, as the recorder's writer thread turned the tick's TickViz into JSON.
-    const auto stamp = static_cast<std::uint64_t>(tick->now_ns < 0 ? 0 : tick->now_ns);
+    const core::TimeNs viewer_ns = tick->now_ns + recording.log_time_offset_ns;
+    const auto stamp = static_cast<std::uint64_t>(viewer_ns < 0 ? 0 : viewer_ns);
     const auto scene = recording.viz_scene.find(stamp);
     if (scene != recording.viz_scene.end()) {
       ++report.viz_compared;
       host::fill_tick_viz(*out, config.boat, *viz);
       const std::uint64_t replayed_scene = fnv1a(record::foxglove::scene_update_json(
-          tick->now_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
+          viewer_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
       if (replayed_scene != scene->second) {
         note("viz.scene", hex(scene->second), hex(replayed_scene));
       }
@@ -287,7 +306,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
              viz->pose_valid ? "present" : "absent");
       } else if (recorded_pose) {
         const std::uint64_t replayed_pose =
-            fnv1a(record::foxglove::frame_transform_json(tick->now_ns, *viz));
+            fnv1a(record::foxglove::frame_transform_json(viewer_ns, *viz));
         if (replayed_pose != pose->second) note("viz.pose", hex(pose->second), hex(replayed_pose));
       }
     }

@@ -23,6 +23,7 @@
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_reader.hpp"
+#include "coxswain/record/proto_codec.hpp"
 
 namespace coxswain::replay {
 
@@ -33,9 +34,16 @@ struct Recording {
   std::string error;
   record::McapReadReport file;
   std::string config_yaml;  // Metadata "config"/"yaml", empty when absent
+  /// How /tick, /lidar and /params are encoded (protobuf; the packed layouts before it).
+  record::Encoding encoding = record::Encoding::kProtobuf;
+  /// Log time minus the recorder's clock (metadata `log_time_offset_ns`; 0 in recordings whose
+  /// log times were the recorder's clock): the viewer stamps of /viz/scene and /tf are tick
+  /// times plus this.
+  core::TimeNs log_time_offset_ns = 0;
   std::vector<std::vector<std::uint8_t>> ticks;
   std::map<std::uint64_t, std::vector<std::uint8_t>> lidar;
-  /// FNV-1a hashes of the recorded visualization (/viz/scene, /tf) by log time (= tick time).
+  /// FNV-1a hashes of the recorded visualization (/viz/scene, /tf) by log time (tick time plus
+  /// `log_time_offset_ns`).
   std::map<std::uint64_t, std::uint64_t> viz_scene;
   std::map<std::uint64_t, std::uint64_t> viz_pose;
   /// Live parameter sets (/params) in file order.

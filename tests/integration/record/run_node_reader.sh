@@ -3,7 +3,8 @@
 # CTest driver: installs the pinned npm test clients (package-lock.json) under the build tree,
 # writes a recording with every channel and opens it with @mcap/core (read_mcap.mjs); then does the
 # same with a lockstep simulator run's recording (`coxswain-sim run --record`, realistic sensors),
-# its message counts checked against the counters the run wrote in its result.json.
+# its message counts checked against the counters the run wrote in its result.json; then a
+# devices-mode run's recording (the real daemon on emulated serial devices).
 # Exit 77 (reported as skipped) when node/npm are missing or the npm registry is unreachable.
 set -euo pipefail
 writer=$1
@@ -55,3 +56,19 @@ fs.writeFileSync(process.argv[2], JSON.stringify({ written: r.recording.written,
               "/viz/fix"] }));
 ' "$work/sim/result.json" "$work/sim/expected.json"
 node "$work/node/read_mcap.mjs" "$work/sim/run.mcap" "$work/sim/expected.json"
+
+# Devices mode: the daemon itself on pseudo-terminals, 20 s of the 2026 course (start-up, GNSS
+# calibration, sailing); every channel the daemon records must decode.
+rm -rf "$work/devices"
+"$sim" devices --course "$config/courses/kaboat2026.yaml" \
+  --mission "$config/missions/kaboat2026.yaml" --run-dir "$work/devices" --time-limit 20 \
+  --quiet --no-progress >"$work/devices.log" 2>&1 || true
+mcap=$(find "$work/devices/daemon" -name run.mcap 2>/dev/null | head -n 1)
+if [ -z "$mcap" ]; then
+  cat "$work/devices.log"
+  echo "FAIL: the devices-mode daemon wrote no recording under $work/devices/daemon"
+  exit 1
+fi
+echo '{"must_have": ["/tick", "/lidar", "/imu", "/gnss", "/arduino", "/health", "/raw/lidar",
+  "/raw/imu", "/raw/gnss", "/raw/arduino", "/viz/scene", "/tf", "/log"]}' >"$work/devices/expected.json"
+node "$work/node/read_mcap.mjs" "$mcap" "$work/devices/expected.json"

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "coxswain/record/layouts.hpp"
+#include "sample_messages.hpp"
 
 namespace coxswain::record {
 namespace {
@@ -21,48 +22,6 @@ bool same_bytes(const T& a, const T& b) {
   // Padding-free comparison through the encoder: equal encodings = equal fields.
   std::vector<std::uint8_t> ea(kMaxLidarBytes), eb(kMaxLidarBytes);
   return encode_sample(ea, 1, a) == encode_sample(eb, 1, b) && ea == eb;
-}
-
-msg::GnssFix make_fix() {
-  msg::GnssFix f;
-  f.stamp_ns = 123456789;
-  f.source = msg::GnssSource::kNmeaGga;
-  f.fix_type = msg::FixType::k3D;
-  f.fix_ok = true;
-  f.rtk = msg::RtkSolution::kFixed;
-  f.lat_deg = 35.123456789;
-  f.lon_deg = 129.987654321;
-  f.height_msl_m = 12.5;
-  f.h_acc_m = 0.02;
-  f.v_acc_m = 0.03;
-  f.hdop = 0.7;
-  f.satellites = 23;
-  f.velocity_valid = true;
-  f.vel_north_mps = 1.5;
-  f.vel_east_mps = -0.5;
-  f.ground_speed_mps = 1.58;
-  f.course_deg = -18.4;
-  f.utc_ns = 1700000000123456789;
-  f.itow_ms = 345600000;
-  f.s_acc_mps = 0.12;
-  return f;
-}
-
-msg::DeviceHealth make_health(msg::DeviceId id) {
-  msg::DeviceHealth h;
-  h.stamp_ns = 99;
-  h.device = id;
-  h.state = msg::DeviceState::kRunning;
-  h.bytes_received = 1U << 20U;
-  h.frames_ok = 1000;
-  h.checksum_errors = 3;
-  h.framing_errors = 4;
-  h.dropped_frames = 5;
-  h.reopen_count = 2;
-  h.last_frame_ns = 98;
-  h.rate_hz = 10.0;
-  h.set_detail(std::string(300, 'd'));  // longest detail the struct holds
-  return h;
 }
 
 TEST(Layouts, AGnssFixOfTheFirstVersionReadsWithoutASpeedAccuracy) {

@@ -19,6 +19,7 @@
 
 #include "coxswain/record/layouts.hpp"
 #include "coxswain/record/mcap_reader.hpp"
+#include "coxswain/record/proto_codec.hpp"
 #include "coxswain/record/recorder.hpp"
 
 namespace coxswain::record {
@@ -75,17 +76,17 @@ FileSummary summarize(const fs::path& path) {
     ++s.counts[topic];
     if (topic.starts_with("/raw/")) {
       RawRecord raw;
-      EXPECT_TRUE(decode_raw(m.data, raw));
+      EXPECT_TRUE(proto::decode_raw(m.data, raw));
       if (raw.direction == drivers::RawDirection::kFromDevice) {
         auto& v = s.raw_from_device[raw.device];
         v.insert(v.end(), raw.bytes.begin(), raw.bytes.end());
       }
     } else if (topic == "/tick") {
       s.ticks.emplace_back();
-      EXPECT_TRUE(decode_tick(m.data, s.ticks.back()));
+      EXPECT_TRUE(proto::decode_tick(m.data, s.ticks.back()));
     } else if (topic == "/params") {
       s.parameter_sets.emplace_back();
-      EXPECT_TRUE(decode_parameters(m.data, s.parameter_sets.back()));
+      EXPECT_TRUE(proto::decode_parameters(m.data, s.parameter_sets.back()));
     }
   });
   for (const auto& [id, c] : reader.channels()) {
@@ -228,7 +229,7 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   EXPECT_EQ(f.parameter_sets[0].values[0].first, "heading_pid.kp_per_deg");
   EXPECT_EQ(f.parameter_sets[0].values[0].second, 0.1 + 0.2);  // every bit
   EXPECT_EQ(f.parameter_sets[0].values[1].first, "vision.red.h_min");
-  EXPECT_EQ(f.schema_encoding.at("/params"), "coxswain-layout");
+  EXPECT_EQ(f.schema_encoding.at("/params"), "protobuf");
   ASSERT_EQ(f.ticks.size(), 100U);
   for (std::size_t i = 0; i < f.ticks.size(); ++i) {
     EXPECT_EQ(f.ticks[i].tick_index, i);
@@ -244,7 +245,7 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   EXPECT_EQ(st[RecordChannel::kCamera].written, 1U);
   EXPECT_EQ(st[RecordChannel::kArduino].written, 1U);
   EXPECT_EQ(f.schema_encoding.at("/viz/scene"), "jsonschema");
-  EXPECT_EQ(f.schema_encoding.at("/tick"), "coxswain-layout");
+  EXPECT_EQ(f.schema_encoding.at("/tick"), "protobuf");
   fs::remove(path);
 }
 
@@ -418,7 +419,7 @@ TEST(Recorder, SigkillLeavesAFileWithEveryClosedChunk) {
   bool ordered = true;
   const auto report = reader.read([&](const McapMessageView& m) {
     RawRecord raw;
-    if (!decode_raw(m.data, raw) || raw.bytes.size() != 64) return;
+    if (!proto::decode_raw(m.data, raw) || raw.bytes.size() != 64) return;
     std::uint64_t index = 0;
     for (std::size_t b = 0; b < 8; ++b)
       index |= static_cast<std::uint64_t>(raw.bytes[b]) << (8 * b);

@@ -41,11 +41,11 @@ class ReplayTest : public ::testing::Test {
   template <class Edit>
   static void tamper(Recording& rec, std::size_t i, Edit edit) {
     auto t = std::make_unique<record::TickRecordData>();
-    ASSERT_TRUE(record::decode_tick(rec.ticks[i], *t));
+    ASSERT_TRUE(record::decode_tick(rec.encoding, rec.ticks[i], *t));
     edit(*t);
-    std::vector<std::uint8_t> out(record::kMaxTickBytes);
-    const std::size_t n =
-        record::encode_tick(out, t->tick_index, t->now_ns, t->snapshot, t->command, t->state_path);
+    std::vector<std::uint8_t> out(record::proto::kMaxTickBytes);
+    const std::size_t n = record::proto::encode_tick(out, t->tick_index, t->now_ns, t->snapshot,
+                                                     t->command, t->state_path);
     ASSERT_GT(n, 0U);
     out.resize(n);
     rec.ticks[i] = out;
@@ -118,9 +118,9 @@ TEST_F(ReplayTest, MissingScanAndBrokenTickAreCounted) {
   ASSERT_FALSE(rec.lidar.empty());
   // The scan tick 300 saw, as if the recorder had dropped it.
   auto t = std::make_unique<record::TickRecordData>();
-  ASSERT_TRUE(record::decode_tick(rec.ticks[300], *t));
+  ASSERT_TRUE(record::decode_tick(rec.encoding, rec.ticks[300], *t));
   ASSERT_EQ(rec.lidar.erase(t->snapshot.lidar.sequence), 1U);
-  rec.ticks[10].assign({99, 1, 2});  // an unknown layout version
+  rec.ticks[10].assign({99, 1, 2});  // not a message (a group start, which is never written)
   const ReplayReport r = replay(rec, *config_);
   EXPECT_GT(r.lidar_scans_missing, 0U);
   EXPECT_EQ(r.ticks_undecodable, 1U);
