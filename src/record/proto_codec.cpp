@@ -784,18 +784,30 @@ bool encoding_of(std::string_view message_encoding, Encoding& out) {
   return false;
 }
 
-const std::string& file_descriptor_set() {
-  static const std::string set = [] {
-    std::string file;
-    put_bytes_field(file, 1, "coxswain/recording.proto");  // FileDescriptorProto.name
-    put_bytes_field(file, 2, kProtoPackage);               // package
-    for (const MessageDesc& m : all_messages()) put_bytes_field(file, 4, serialize(m));
-    put_bytes_field(file, 12, "proto3");  // syntax
-    std::string out;
-    put_bytes_field(out, 1, file);  // FileDescriptorSet.file
+const std::string& file_descriptor_set(Layout layout) {
+  // Each schema record carries only the types its message needs (the tick also needs the
+  // command), so the descriptors cost a recording a few KiB, not ten copies of every type.
+  static const std::array<std::string, kLayoutCount> sets = [] {
+    const std::vector<MessageDesc> messages = all_messages();
+    std::array<std::string, kLayoutCount> out;
+    for (std::size_t i = 0; i < kLayoutCount; ++i) {
+      const auto l = static_cast<Layout>(i);
+      const std::string_view full_name = proto_message_name(l);
+      const std::string_view name = full_name.substr(kProtoPackage.size() + 1);
+      std::string file;
+      put_bytes_field(file, 1, "coxswain/" + std::string(name) + ".proto");  // name
+      put_bytes_field(file, 2, kProtoPackage);                               // package
+      for (const MessageDesc& m : messages) {
+        if (m.name == name || (l == Layout::kTick && m.name == "ActuatorCommand")) {
+          put_bytes_field(file, 4, serialize(m));  // message_type
+        }
+      }
+      put_bytes_field(file, 12, "proto3");  // syntax
+      put_bytes_field(out[i], 1, file);     // FileDescriptorSet.file
+    }
     return out;
   }();
-  return set;
+  return sets[static_cast<std::size_t>(layout)];
 }
 
 const std::string& recording_proto_text() {

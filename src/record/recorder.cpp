@@ -271,7 +271,7 @@ bool Recorder::start() {
     return false;
   }
   auto protobuf = [&](Layout layout) {
-    return w.add_schema(proto_message_name(layout), kProtobufEncoding, file_descriptor_set());
+    return w.add_schema(proto_message_name(layout), kProtobufEncoding, file_descriptor_set(layout));
   };
   auto json_schema = [&](foxglove::Schema s) {
     return w.add_schema(foxglove::schema_name(s), foxglove::kSchemaEncoding,

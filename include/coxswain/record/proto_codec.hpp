@@ -2,7 +2,7 @@
 #pragma once
 // The recording's messages in protobuf (proto3 wire format), so every channel of a recording
 // decodes in Foxglove, Lichtblick or any protobuf library: each channel's MCAP Schema record
-// holds a FileDescriptorSet describing every message (`file_descriptor_set()`), and the message
+// holds a FileDescriptorSet describing its message (`file_descriptor_set()`), and the message
 // types follow the same field lists as the legacy packed layouts (layouts.hpp), a field's number
 // being its position in its list. `recording_proto_text()` is the same description as .proto
 // source (src/record/FORMAT.md quotes it).
@@ -34,9 +34,9 @@ inline constexpr std::string_view kProtoPackage = "coxswain";
 /// the legacy layouts). False when it is neither.
 [[nodiscard]] bool encoding_of(std::string_view message_encoding, Encoding& out);
 
-/// Serialized google.protobuf.FileDescriptorSet with one file, "coxswain/recording.proto",
-/// holding every message type below. Built once.
-[[nodiscard]] const std::string& file_descriptor_set();
+/// Serialized google.protobuf.FileDescriptorSet for a layout's channel: one file
+/// ("coxswain/<Type>.proto") with the message type and the types it uses. Built once.
+[[nodiscard]] const std::string& file_descriptor_set(Layout layout);
 /// The same messages as .proto source.
 [[nodiscard]] const std::string& recording_proto_text();
 /// The fully qualified message type of a layout's channel ("coxswain.Tick", ...).

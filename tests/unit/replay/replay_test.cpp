@@ -99,7 +99,9 @@ TEST_F(ReplayTest, AlteredVisualizationIsReported) {
   const ReplayReport r = replay(rec, *config_);
   ASSERT_EQ(r.differences.size(), 1U) << format_replay_report(r, true);
   EXPECT_EQ(r.differences[0].field, "viz.scene");
-  EXPECT_EQ(static_cast<std::uint64_t>(r.differences[0].now_ns), it->first);
+  // Keyed by log time: the tick time plus the recording's UTC offset.
+  EXPECT_EQ(static_cast<std::uint64_t>(r.differences[0].now_ns + rec.log_time_offset_ns),
+            it->first);
 }
 
 TEST_F(ReplayTest, MaxDiffsLimitsTheListNotTheCount) {
