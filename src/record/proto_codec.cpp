@@ -601,7 +601,7 @@ FieldDesc message_field(std::string name, std::uint32_t number, std::string type
 
 // A channel message: store_sequence, then the message's fields.
 template <class T>
-MessageDesc channel_message(std::string name) {
+MessageDesc channel_message(const std::string& name) {
   MessageDesc d{name, {scalar("store_sequence", 1, kTypeUint64)}, {}};
   DescribeIo io{d, kScope + "." + name, 2};
   fields(io, default_message<T>());
@@ -611,7 +611,7 @@ MessageDesc channel_message(std::string name) {
 // A sample as the tick saw it: its store sequence and store stamp (named apart from the
 // message's own `stamp_ns` and the IMU's `sequence`), then the message's fields.
 template <class T>
-MessageDesc tick_sample(std::string name) {
+MessageDesc tick_sample(const std::string& name) {
   MessageDesc d{
       name,
       {scalar("store_sequence", 1, kTypeUint64), scalar("store_stamp_ns", 2, kTypeSint64)},
@@ -845,17 +845,35 @@ bool decode_sample(std::span<const std::uint8_t> in, std::uint64_t& sequence, T&
   return io.ok;
 }
 
-#define COXSWAIN_PROTO_SAMPLE(T)                                                           \
-  template std::size_t encode_sample<T>(std::span<std::uint8_t>, std::uint64_t, const T&); \
-  template bool decode_sample<T>(std::span<const std::uint8_t>, std::uint64_t&, T&);
-COXSWAIN_PROTO_SAMPLE(msg::GnssFix)
-COXSWAIN_PROTO_SAMPLE(msg::ImuSample)
-COXSWAIN_PROTO_SAMPLE(msg::LidarScan)
-COXSWAIN_PROTO_SAMPLE(msg::CameraDetections)
-COXSWAIN_PROTO_SAMPLE(msg::ArduinoStatus)
-COXSWAIN_PROTO_SAMPLE(msg::OperatorInput)
-COXSWAIN_PROTO_SAMPLE(msg::DeviceHealth)
-#undef COXSWAIN_PROTO_SAMPLE
+// Every decoded-message type the recorder writes.
+template std::size_t encode_sample<msg::GnssFix>(std::span<std::uint8_t>, std::uint64_t,
+                                                 const msg::GnssFix&);
+template bool decode_sample<msg::GnssFix>(std::span<const std::uint8_t>, std::uint64_t&,
+                                          msg::GnssFix&);
+template std::size_t encode_sample<msg::ImuSample>(std::span<std::uint8_t>, std::uint64_t,
+                                                   const msg::ImuSample&);
+template bool decode_sample<msg::ImuSample>(std::span<const std::uint8_t>, std::uint64_t&,
+                                            msg::ImuSample&);
+template std::size_t encode_sample<msg::LidarScan>(std::span<std::uint8_t>, std::uint64_t,
+                                                   const msg::LidarScan&);
+template bool decode_sample<msg::LidarScan>(std::span<const std::uint8_t>, std::uint64_t&,
+                                            msg::LidarScan&);
+template std::size_t encode_sample<msg::CameraDetections>(std::span<std::uint8_t>, std::uint64_t,
+                                                          const msg::CameraDetections&);
+template bool decode_sample<msg::CameraDetections>(std::span<const std::uint8_t>, std::uint64_t&,
+                                                   msg::CameraDetections&);
+template std::size_t encode_sample<msg::ArduinoStatus>(std::span<std::uint8_t>, std::uint64_t,
+                                                       const msg::ArduinoStatus&);
+template bool decode_sample<msg::ArduinoStatus>(std::span<const std::uint8_t>, std::uint64_t&,
+                                                msg::ArduinoStatus&);
+template std::size_t encode_sample<msg::OperatorInput>(std::span<std::uint8_t>, std::uint64_t,
+                                                       const msg::OperatorInput&);
+template bool decode_sample<msg::OperatorInput>(std::span<const std::uint8_t>, std::uint64_t&,
+                                                msg::OperatorInput&);
+template std::size_t encode_sample<msg::DeviceHealth>(std::span<std::uint8_t>, std::uint64_t,
+                                                      const msg::DeviceHealth&);
+template bool decode_sample<msg::DeviceHealth>(std::span<const std::uint8_t>, std::uint64_t&,
+                                               msg::DeviceHealth&);
 
 std::size_t encode_tick(std::span<std::uint8_t> out, std::uint64_t tick_index, core::TimeNs now_ns,
                         const core::Snapshot& snapshot, const msg::ActuatorCommand& command,

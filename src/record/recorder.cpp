@@ -278,7 +278,7 @@ bool Recorder::start() {
                         foxglove::schema_json(s));
   };
   auto channel = [&](RecordChannel c, std::uint16_t schema, std::string_view encoding,
-                     McapMetadataMap meta = {}) {
+                     const McapMetadataMap& meta = {}) {
     st.channel_ids[static_cast<std::size_t>(c)] =
         w.add_channel(schema, channel_topic(c), encoding, meta);
   };
