@@ -47,7 +47,8 @@ class Sink {
     for (int i = 0; i < 8; ++i) byte(static_cast<std::uint8_t>(v >> (8 * i)));
   }
   void bytes(std::span<const std::uint8_t> b) {
-    if (n_ < out_.size()) {
+    // An empty span may hold a null pointer, which memcpy must not be given.
+    if (!b.empty() && n_ < out_.size()) {
       std::memcpy(out_.data() + n_, b.data(), std::min(b.size(), out_.size() - n_));
     }
     n_ += b.size();
