@@ -13,6 +13,7 @@ namespace coxswain::record {
 namespace {
 
 using detail::fields;
+using detail::IsStdArray;
 using detail::lidar_header_fields;
 using detail::ListInfo;
 
@@ -21,10 +22,6 @@ using detail::ListInfo;
 // and in FORMAT.md) the layout, so the three cannot drift apart. A field added to a message later
 // is listed with `io.since(version, ...)`: older messages read it as the struct's default.
 
-template <class T>
-struct IsStdArray : std::false_type {};
-template <class T, std::size_t N>
-struct IsStdArray<std::array<T, N>> : std::true_type {};
 
 template <class T>
 void write_value(ByteWriter& w, const T& v) {

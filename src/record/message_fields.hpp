@@ -16,7 +16,9 @@
 //                                       a string (writers / readers)
 // `Io::kReads` says whether the Io fills the message. In protobuf the field numbers are the
 // positions in these lists: a field is only ever appended, never moved or removed.
+#include <array>
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
@@ -31,6 +33,13 @@
 #include "coxswain/msg/operator_input.hpp"
 
 namespace coxswain::record::detail {
+
+// Arrays (fixed-size vectors such as a quaternion) are written element by element by every
+// encoding.
+template <class T>
+struct IsStdArray : std::false_type {};
+template <class T, std::size_t N>
+struct IsStdArray<std::array<T, N>> : std::true_type {};
 
 /// A list's names: its field (protobuf), its element type (protobuf), its count field and
 /// whether that count is a field of its own listed before the list.

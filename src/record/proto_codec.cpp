@@ -17,6 +17,7 @@ namespace coxswain::record {
 namespace {
 
 using detail::fields;
+using detail::IsStdArray;
 using detail::lidar_header_fields;
 using detail::ListInfo;
 
@@ -174,10 +175,6 @@ enum ProtoType : std::uint8_t {
   kTypeSint64 = 18,
 };
 
-template <class T>
-struct IsStdArray : std::false_type {};
-template <class T, std::size_t N>
-struct IsStdArray<std::array<T, N>> : std::true_type {};
 
 // How each C++ field type travels: unsigned integers and enums as varints, signed integers
 // zig-zagged (small negatives stay short), floating point as fixed 32/64 bits.
@@ -357,7 +354,7 @@ std::size_t member_count(const Item& item, Element element) {
 
 // ---- writing ----------------------------------------------------------------------------------
 
-struct WriteIo {
+struct ProtoWriteIo {
   static constexpr bool kReads = false;
   Sink& s;
   std::uint32_t next = 1;
@@ -377,11 +374,11 @@ struct WriteIo {
     const std::size_t n = std::min<std::size_t>(count, max_count);
     for (std::size_t i = 0; i < n; ++i) {
       Sink sizer({});
-      WriteIo size_io{sizer};
+      ProtoWriteIo size_io{sizer};
       element(size_io, items[i]);
       s.tag(number, kLen);
       s.varint(sizer.size());
-      WriteIo io{s};
+      ProtoWriteIo io{s};
       element(io, items[i]);
     }
   }
@@ -420,7 +417,7 @@ struct WriteIo {
 template <class M>
 void put_message(Sink& s, std::uint32_t number, const M& m) {
   auto body = [&](Sink& out) {
-    WriteIo io{out, 1};
+    ProtoWriteIo io{out, 1};
     fields(io, m);
   };
   Sink sizer({});
@@ -432,7 +429,7 @@ void put_message(Sink& s, std::uint32_t number, const M& m) {
 
 // ---- reading ----------------------------------------------------------------------------------
 
-struct ReadIo {
+struct ProtoReadIo {
   static constexpr bool kReads = true;
   std::span<const std::uint8_t> message;
   std::uint32_t next = 1;
@@ -456,7 +453,7 @@ struct ReadIo {
         ok = false;
         return;
       }
-      ReadIo io{f.payload};
+      ProtoReadIo io{f.payload};
       element(io, items[n]);
       if (!io.ok) ok = false;
       ++n;
@@ -546,7 +543,7 @@ struct MessageDesc {
   std::vector<MessageDesc> nested;
 };
 
-struct DescribeIo {
+struct ProtoDescribeIo {
   static constexpr bool kReads = false;
   MessageDesc& message;
   std::string scope;  // ".coxswain.Tick" for the Tick message
@@ -570,7 +567,7 @@ struct DescribeIo {
                 const Items& items, Element element) {
     MessageDesc nested{std::string(list.type), {}, {}};
     const std::string type_name = scope + "." + std::string(list.type);
-    DescribeIo io{nested, type_name};
+    ProtoDescribeIo io{nested, type_name};
     element(io, items[0]);
     message.nested.push_back(std::move(nested));
     message.fields.push_back({std::string(list.field), next++, true, kTypeMessage, type_name});
@@ -604,7 +601,7 @@ FieldDesc message_field(std::string name, std::uint32_t number, std::string type
 template <class T>
 MessageDesc channel_message(const std::string& name) {
   MessageDesc d{name, {scalar("store_sequence", 1, kTypeUint64)}, {}};
-  DescribeIo io{d, kScope + "." + name, 2};
+  ProtoDescribeIo io{d, kScope + "." + name, 2};
   fields(io, default_message<T>());
   return d;
 }
@@ -617,7 +614,7 @@ MessageDesc tick_sample(const std::string& name) {
       name,
       {scalar("store_sequence", 1, kTypeUint64), scalar("store_stamp_ns", 2, kTypeSint64)},
       {}};
-  DescribeIo io{d, kScope + ".Tick." + name, 3};
+  ProtoDescribeIo io{d, kScope + ".Tick." + name, 3};
   if constexpr (std::is_same_v<T, msg::LidarScan>) {
     lidar_header_fields(io, default_message<T>());
   } else {
@@ -634,7 +631,7 @@ std::vector<MessageDesc> all_messages() {
                {}});
   {
     MessageDesc command{"ActuatorCommand", {}, {}};
-    DescribeIo io{command, kScope + ".ActuatorCommand"};
+    ProtoDescribeIo io{command, kScope + ".ActuatorCommand"};
     fields(io, default_message<msg::ActuatorCommand>());
     m.push_back(std::move(command));
   }
@@ -730,7 +727,7 @@ void put_tick_sample(Sink& s, std::uint32_t number, const core::Sample<T>& sampl
   auto body = [&](Sink& out) {
     put_field(out, 1, sample.sequence);
     put_field(out, 2, sample.stamp_ns);
-    WriteIo io{out, 3};
+    ProtoWriteIo io{out, 3};
     if constexpr (std::is_same_v<T, msg::LidarScan>) {
       lidar_header_fields(io, sample.value);
     } else {
@@ -746,7 +743,7 @@ void put_tick_sample(Sink& s, std::uint32_t number, const core::Sample<T>& sampl
 
 template <class T>
 bool read_tick_sample(std::span<const std::uint8_t> payload, core::Sample<T>& sample) {
-  ReadIo io{payload, 3};
+  ProtoReadIo io{payload, 3};
   if (!get_field(payload, 1, sample.sequence) || !get_field(payload, 2, sample.stamp_ns)) {
     return false;
   }
@@ -831,7 +828,7 @@ template <class T>
 std::size_t encode_sample(std::span<std::uint8_t> out, std::uint64_t sequence, const T& m) {
   Sink s(out);
   put_field(s, 1, sequence);
-  WriteIo io{s, 2};
+  ProtoWriteIo io{s, 2};
   fields(io, m);
   return finish(s);
 }
@@ -841,7 +838,7 @@ bool decode_sample(std::span<const std::uint8_t> in, std::uint64_t& sequence, T&
   m = default_message<T>();
   sequence = 0;
   if (!get_field(in, 1, sequence)) return false;
-  ReadIo io{in, 2};
+  ProtoReadIo io{in, 2};
   fields(io, m);
   return io.ok;
 }
@@ -883,7 +880,7 @@ std::size_t encode_tick(std::span<std::uint8_t> out, std::uint64_t tick_index, c
   put_field(s, 1, tick_index);
   put_field(s, 2, now_ns);
   put_message(s, 3, command);
-  WriteIo path{s, 4};
+  ProtoWriteIo path{s, 4};
   path.text("state_path", state_path, kMaxStatePathBytes);
   // Lidar: the sample header only; the points travel once in /lidar under the same sequence.
   put_tick_sample(s, 5, snapshot.lidar);
@@ -908,11 +905,11 @@ bool decode_tick(std::span<const std::uint8_t> in, TickRecordData& out) {
   if (!find_last(in, 3, present, f)) return false;
   if (present) {
     if (f.wire != kLen) return false;
-    ReadIo io{f.payload};
+    ProtoReadIo io{f.payload};
     fields(io, out.command);
     if (!io.ok) return false;
   }
-  ReadIo path{in, 4};
+  ProtoReadIo path{in, 4};
   path.text("state_path", [&](std::string_view s) { out.state_path = std::string(s); });
   if (!path.ok || out.state_path.size() > kMaxStatePathBytes) return false;
   core::Snapshot& snap = out.snapshot;
