@@ -35,6 +35,7 @@
 #include "coxswain/drivers/ublox/rtcm_queue.hpp"
 #include "coxswain/drivers/ublox/rtcm_source.hpp"
 #include "coxswain/drivers/ublox/session.hpp"
+#include "coxswain/host/step_record.hpp"
 #include "coxswain/live/live_server.hpp"
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/record/recorder.hpp"
@@ -208,6 +209,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
     recorder_options.path = options.run_dir / "run.mcap";
     recorder_options.config_yaml = config::to_yaml(config);
     recorder_options.build_version = options.build_version;
+    recorder_options.map = host::map_geometry(config.mission);
     recorder = std::make_unique<record::Recorder>(recorder_options, store.get(), clock);
     if (recorder->start()) {
       // The daemon's own log lines (info and above) go to /log through the recorder's queue.

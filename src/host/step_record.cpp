@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 #include <utility>
 
+#include "coxswain/core/geodesy.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 
 namespace coxswain::host {
@@ -31,6 +33,19 @@ void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boa
     viz.target_valid = true;
     viz.target_bearing_deg = f.desired_heading_deg - f.pose.heading_deg;
   }
+  const auto point = [](core::NavPoint p) { return record::VizPoint{p.north_m, p.east_m}; };
+  viz.goal_valid = f.has_goal;
+  viz.goal = point(f.goal);
+  viz.arrival_radius_m = f.arrival_radius_m;
+  viz.leg_valid = f.has_leg;
+  viz.leg_start = point(f.leg_start);
+  viz.gate_valid = f.has_gate;
+  viz.gate_by_lidar = f.gate_by_lidar;
+  viz.gate_port = point(f.gate_port);
+  viz.gate_starboard = point(f.gate_starboard);
+  static_assert(record::TickViz::kMaxPathPoints >= mission::VizFrame::kMaxPathPoints);
+  viz.path_count = std::min<std::uint32_t>(f.path_count, mission::VizFrame::kMaxPathPoints);
+  for (std::uint32_t i = 0; i < viz.path_count; ++i) viz.path[i] = point(f.path[i]);
   // The blocked sector: from the first to the last bin judged more than half blocked.
   const std::uint32_t bins =
       std::min<std::uint32_t>(f.danger_count, mission::VizFrame::kMaxDangerBins);
@@ -66,6 +81,40 @@ void fill_tick_viz(const mission::CoreOutput& out, const config::BoatConfig& boa
     o.radius_m = static_cast<float>(0.5 * std::hypot(s.end.forward_m - s.begin.forward_m,
                                                      s.end.starboard_m - s.begin.starboard_m));
   }
+}
+
+record::MapGeometry map_geometry(const config::MissionConfig& mission) {
+  const core::LocalFrame frame(mission.origin);
+  const auto vertex = [&](const core::GeoPoint& g) {
+    const core::NavPoint p = frame.to_nav(g);
+    return record::MapVertex{g.lat_deg, g.lon_deg, {p.north_m, p.east_m}};
+  };
+  record::MapGeometry geometry;
+  for (const config::TaskConfig& task : mission.tasks) {
+    for (std::size_t i = 0; i < task.waypoints.size(); ++i) {
+      geometry.marks.push_back({record::MapMark::Kind::kWaypoint,
+                                task.name + " " + std::to_string(i + 1),
+                                vertex(task.waypoints[i])});
+    }
+    for (std::size_t i = 0; i < task.slips.size(); ++i) {
+      geometry.marks.push_back({record::MapMark::Kind::kSlip,
+                                task.name + " slip " + std::to_string(i + 1),
+                                vertex(task.slips[i])});
+    }
+  }
+  const auto area = [&](record::MapArea::Kind kind, std::string label,
+                        const std::vector<core::GeoPoint>& corners) {
+    record::MapArea a{kind, std::move(label), {}};
+    for (const core::GeoPoint& g : corners) a.corners.push_back(vertex(g));
+    geometry.areas.push_back(std::move(a));
+  };
+  if (!mission.planning.boundary.empty()) {
+    area(record::MapArea::Kind::kBoundary, "boundary", mission.planning.boundary);
+  }
+  for (std::size_t i = 0; i < mission.planning.no_go.size(); ++i) {
+    area(record::MapArea::Kind::kNoGo, "no-go " + std::to_string(i + 1), mission.planning.no_go[i]);
+  }
+  return geometry;
 }
 
 std::vector<record::NamedValue> named_values(const mission::TunableParameters& params) {

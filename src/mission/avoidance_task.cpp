@@ -521,6 +521,29 @@ class AvoidanceTask final : public AvoidingTask {
     v.has_leg = true;
     v.leg_start = leg_start_;
     v.distance_to_go_m = core::distance_m(ctx.antenna, goal);
+    if (judging_a_gate()) {
+      const GateTrack g = judged_gate();
+      v.has_gate = true;
+      v.gate_by_lidar = gate_.seen;
+      v.gate_port = g.left;
+      v.gate_starboard = g.right;
+    }
+    v.path_count = 0;
+    if (plan_.enabled && ctx.planner != nullptr && !off_map_ && !no_path_ &&
+        ctx.planner->status() == guidance::PlanStatus::kOk) {
+      thin_path(ctx.planner->path(), v);
+    }
+  }
+
+  /// Every k-th cell of the path (its ends always), so any length fits the frame.
+  static void thin_path(const std::vector<core::NavPoint>& path, VizFrame& v) {
+    const std::size_t n = path.size();
+    if (n == 0) return;
+    const std::size_t step = (n + VizFrame::kMaxPathPoints - 2) / (VizFrame::kMaxPathPoints - 1);
+    for (std::size_t i = 0; i + 1 < n && v.path_count + 1 < VizFrame::kMaxPathPoints; i += step) {
+      v.path[v.path_count++] = path[i];
+    }
+    v.path[v.path_count++] = path[n - 1];
   }
 
   TaskResult search(const TaskContext& ctx, GuidanceRequest& out) {

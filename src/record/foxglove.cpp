@@ -111,6 +111,10 @@ json log_schema() {
        {"line", integer("source line", 0, 4294967295)}});
 }
 
+json geojson_schema() {
+  return object("foxglove.GeoJSON", {{"geojson", str("GeoJSON data encoded as a UTF-8 string")}});
+}
+
 json scene_update_schema() {
   const json colors = array_of(color_schema(), "per-vertex colors");
   const json points = array_of(vector3_schema("foxglove.Point3"), "points");
@@ -189,14 +193,28 @@ json scene_update_schema() {
 }
 
 // ---- message building blocks ----
+// Numbers are rounded to what the views can show (a millimetre, a micro-unit of a quaternion):
+// JSON prints a double's shortest exact form, so 0.30000000000000004 m would cost 19 bytes
+// where "0.3" does; the scene is most of a recording's bytes.
+// Dividing by a whole number of steps (exact in a double) gives the double nearest the decimal.
+double rounded(double v, double steps_per_unit) {
+  return std::round(v * steps_per_unit) / steps_per_unit;
+}
+double mm(double v_m) { return rounded(v_m, 1e3); }
+
 json stamp(core::TimeNs t_ns) {
   const core::TimeNs t = std::max<core::TimeNs>(t_ns, 0);
   return {{"sec", t / core::kNsPerSec}, {"nsec", t % core::kNsPerSec}};
 }
-json vec3(double x, double y, double z) { return {{"x", x}, {"y", y}, {"z", z}}; }
+/// A position in metres.
+json vec3(double x, double y, double z) { return {{"x", mm(x)}, {"y", mm(y)}, {"z", mm(z)}}; }
 /// Rotation about +z by `yaw_rad`.
 json yaw_quat(double yaw_rad) {
-  return {{"x", 0.0}, {"y", 0.0}, {"z", std::sin(yaw_rad / 2.0)}, {"w", std::cos(yaw_rad / 2.0)}};
+  constexpr double kSteps = 1e6;
+  return {{"x", 0.0},
+          {"y", 0.0},
+          {"z", rounded(std::sin(yaw_rad / 2.0), kSteps)},
+          {"w", rounded(std::cos(yaw_rad / 2.0), kSteps)}};
 }
 json pose(double x, double y, double z, double yaw_rad) {
   return {{"position", vec3(x, y, z)}, {"orientation", yaw_quat(yaw_rad)}};
@@ -209,12 +227,12 @@ json body_point(double x_m, double y_m) { return vec3(x_m, -y_m, 0.0); }
 /// Body-frame bearing (clockwise from the bow) as a "boat"-frame yaw (counterclockwise).
 double bearing_to_yaw(double bearing_deg) { return -bearing_deg * kDegToRad; }
 
-json empty_entity(core::TimeNs t_ns, std::string_view id) {
+json empty_entity(core::TimeNs t_ns, std::string_view id, std::string_view frame = kBoatFrame) {
   return {{"timestamp", stamp(t_ns)},
-          {"frame_id", kBoatFrame},
+          {"frame_id", frame},
           {"id", id},
           {"lifetime", {{"sec", 0}, {"nsec", 0}}},
-          {"frame_locked", true},
+          {"frame_locked", frame == kBoatFrame},
           {"metadata", json::array()},
           {"arrows", json::array()},
           {"cubes", json::array()},
@@ -224,6 +242,52 @@ json empty_entity(core::TimeNs t_ns, std::string_view id) {
           {"triangles", json::array()},
           {"texts", json::array()},
           {"models", json::array()}};
+}
+
+/// A navigation-frame point (north, east) in the "map" frame (east, north, up).
+json map_point(const VizPoint& p, double z_m = 0.0) { return vec3(p.east_m, p.north_m, z_m); }
+
+json line_strip(json points, double thickness_m, json colour, double z_m = 0.0) {
+  return {{"type", 0},
+          {"pose", pose(0.0, 0.0, z_m, 0.0)},
+          {"thickness", thickness_m},
+          {"scale_invariant", false},
+          {"points", std::move(points)},
+          {"color", std::move(colour)},
+          {"colors", json::array()},
+          {"indices", json::array()}};
+}
+
+/// Where the boat is going, in the map frame: the goal's arrival circle, the leg, the gate being
+/// judged and the planner's path.
+json route_entity(core::TimeNs stamp_ns, const TickViz& viz) {
+  json route = empty_entity(stamp_ns, "route", kMapFrame);
+  if (viz.goal_valid) {
+    const double d = 2.0 * std::max(viz.arrival_radius_m, 0.1);
+    route["cylinders"].push_back(
+        {{"pose", {{"position", map_point(viz.goal, 0.02)}, {"orientation", yaw_quat(0.0)}}},
+         {"size", vec3(d, d, 0.04)},
+         {"bottom_scale", 1.0},
+         {"top_scale", 1.0},
+         {"color", color(1.0, 0.85, 0.1, 0.35)}});
+    if (viz.leg_valid) {
+      route["lines"].push_back(
+          line_strip(json::array({map_point(viz.leg_start, 0.02), map_point(viz.goal, 0.02)}), 0.05,
+                     color(1.0, 0.85, 0.1, 0.8)));
+    }
+  }
+  if (viz.gate_valid) {
+    route["lines"].push_back(
+        line_strip(json::array({map_point(viz.gate_port, 0.3), map_point(viz.gate_starboard, 0.3)}),
+                   0.1, viz.gate_by_lidar ? color(0.1, 0.9, 0.3, 1.0) : color(0.6, 0.6, 0.6, 0.8)));
+  }
+  const std::size_t n = std::min<std::size_t>(viz.path_count, TickViz::kMaxPathPoints);
+  if (n > 0) {
+    json points = json::array();
+    for (std::size_t i = 0; i < n; ++i) points.push_back(map_point(viz.path[i], 0.05));
+    route["lines"].push_back(line_strip(std::move(points), 0.08, color(0.2, 0.5, 1.0, 1.0)));
+  }
+  return route;
 }
 
 }  // namespace
@@ -240,6 +304,8 @@ std::string_view schema_name(Schema schema) {
       return "foxglove.Log";
     case Schema::kSceneUpdate:
       return "foxglove.SceneUpdate";
+    case Schema::kGeoJson:
+      return "foxglove.GeoJSON";
   }
   return "";
 }
@@ -262,6 +328,9 @@ std::string schema_json(Schema schema) {
     case Schema::kSceneUpdate:
       s = scene_update_schema();
       break;
+    case Schema::kGeoJson:
+      s = geojson_schema();
+      break;
   }
   s["$schema"] = "https://json-schema.org/draft/2020-12/schema";
   return s.dump();
@@ -269,13 +338,15 @@ std::string schema_json(Schema schema) {
 
 std::string location_fix_json(const msg::GnssFix& fix) {
   const bool known = fix.h_acc_m >= 0.0 && fix.v_acc_m >= 0.0;
-  const double h2 = known ? fix.h_acc_m * fix.h_acc_m : 0.0;
-  const double v2 = known ? fix.v_acc_m * fix.v_acc_m : 0.0;
+  constexpr double kDegSteps = 1e9;  // about 0.1 mm
+  constexpr double kVarianceSteps = 1e6;
+  const double h2 = known ? rounded(fix.h_acc_m * fix.h_acc_m, kVarianceSteps) : 0.0;
+  const double v2 = known ? rounded(fix.v_acc_m * fix.v_acc_m, kVarianceSteps) : 0.0;
   const json j = {{"timestamp", stamp(fix.stamp_ns)},
                   {"frame_id", "gnss"},
-                  {"latitude", fix.lat_deg},
-                  {"longitude", fix.lon_deg},
-                  {"altitude", fix.height_msl_m},
+                  {"latitude", rounded(fix.lat_deg, kDegSteps)},
+                  {"longitude", rounded(fix.lon_deg, kDegSteps)},
+                  {"altitude", mm(fix.height_msl_m)},
                   {"position_covariance", {h2, 0.0, 0.0, 0.0, h2, 0.0, 0.0, 0.0, v2}},
                   {"position_covariance_type", known ? 2 : 0}};
   return j.dump();
@@ -302,6 +373,7 @@ std::string laser_scan_json(const msg::LidarScan& scan, std::size_t bins) {
       intensities[b] = static_cast<double>(p.quality);
     }
   }
+  for (double& r : ranges) r = mm(r);
   const json j = {{"timestamp", stamp(scan.stamp_ns)},
                   {"frame_id", kBoatFrame},
                   {"pose", pose(0.0, 0.0, 0.0, 0.0)},
@@ -367,14 +439,7 @@ std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
           body_point(viz.danger_range_m * std::cos(b), viz.danger_range_m * std::sin(b)));
     }
     points.push_back(body_point(0.0, 0.0));
-    boat["lines"].push_back({{"type", 0},
-                             {"pose", pose(0.0, 0.0, 0.1, 0.0)},
-                             {"thickness", 0.05},
-                             {"scale_invariant", false},
-                             {"points", points},
-                             {"color", color(1.0, 0.2, 0.1, 1.0)},
-                             {"colors", json::array()},
-                             {"indices", json::array()}});
+    boat["lines"].push_back(line_strip(std::move(points), 0.05, color(1.0, 0.2, 0.1, 1.0), 0.1));
   }
   if (viz.cov_valid) {
     // The 95 % confidence ellipse of the position (2 dof: sqrt(chi2) = 2.4477 sigma), drawn in
@@ -398,14 +463,7 @@ std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
       points.push_back(body_point(dn * std::cos(psi) + de * std::sin(psi),
                                   -dn * std::sin(psi) + de * std::cos(psi)));
     }
-    boat["lines"].push_back({{"type", 0},
-                             {"pose", pose(0.0, 0.0, 0.05, 0.0)},
-                             {"thickness", 0.04},
-                             {"scale_invariant", false},
-                             {"points", points},
-                             {"color", color(0.2, 0.6, 1.0, 1.0)},
-                             {"colors", json::array()},
-                             {"indices", json::array()}});
+    boat["lines"].push_back(line_strip(std::move(points), 0.04, color(0.2, 0.6, 1.0, 1.0), 0.05));
     char text[96];
     (void)std::snprintf(text, sizeof text, "%.6g %.6g %.6g", viz.cov_nn_m2, viz.cov_ne_m2,
                         viz.cov_ee_m2);
@@ -424,7 +482,93 @@ std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
          {"top_scale", 1.0},
          {"color", color(1.0, 0.6, 0.0, 0.8)}});
   }
-  const json j = {{"deletions", json::array()}, {"entities", json::array({boat})}};
+  json entities = json::array({boat});
+  if (viz.goal_valid || viz.gate_valid || viz.path_count > 0) {
+    entities.push_back(route_entity(stamp_ns, viz));
+  }
+  const json j = {{"deletions", json::array()}, {"entities", std::move(entities)}};
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+namespace {
+
+json mark_colour(MapMark::Kind kind) {
+  return kind == MapMark::Kind::kSlip ? color(0.9, 0.3, 0.9, 0.9) : color(1.0, 0.85, 0.1, 0.9);
+}
+json area_colour(MapArea::Kind kind) {
+  return kind == MapArea::Kind::kNoGo ? color(1.0, 0.2, 0.1, 1.0) : color(0.9, 0.9, 0.9, 1.0);
+}
+std::string_view mark_kind_name(MapMark::Kind kind) {
+  return kind == MapMark::Kind::kSlip ? "slip" : "waypoint";
+}
+std::string_view area_kind_name(MapArea::Kind kind) {
+  return kind == MapArea::Kind::kNoGo ? "no_go" : "boundary";
+}
+/// GeoJSON positions are [longitude, latitude].
+json geo_position(const MapVertex& v) {
+  constexpr double kDegSteps = 1e9;
+  return json::array({rounded(v.lon_deg, kDegSteps), rounded(v.lat_deg, kDegSteps)});
+}
+
+}  // namespace
+
+std::string map_scene_json(core::TimeNs stamp_ns, const MapGeometry& geometry,
+                           std::span<const VizPoint> track) {
+  json mission = empty_entity(stamp_ns, "mission", kMapFrame);
+  for (const MapMark& m : geometry.marks) {
+    mission["spheres"].push_back(
+        {{"pose", {{"position", map_point(m.at.nav, 0.2)}, {"orientation", yaw_quat(0.0)}}},
+         {"size", vec3(0.4, 0.4, 0.4)},
+         {"color", mark_colour(m.kind)}});
+    mission["texts"].push_back(
+        {{"pose", {{"position", map_point(m.at.nav, 0.8)}, {"orientation", yaw_quat(0.0)}}},
+         {"billboard", true},
+         {"font_size", 12.0},
+         {"scale_invariant", true},
+         {"color", color(1.0, 1.0, 1.0, 1.0)},
+         {"text", m.label}});
+  }
+  for (const MapArea& a : geometry.areas) {
+    if (a.corners.empty()) continue;
+    json points = json::array();
+    for (const MapVertex& v : a.corners) points.push_back(map_point(v.nav));
+    points.push_back(map_point(a.corners.front().nav));
+    mission["lines"].push_back(line_strip(std::move(points), 0.1, area_colour(a.kind)));
+  }
+  json trail = empty_entity(stamp_ns, "track", kMapFrame);
+  if (track.size() >= 2) {
+    json points = json::array();
+    for (const VizPoint& p : track) points.push_back(map_point(p, 0.01));
+    trail["lines"].push_back(line_strip(std::move(points), 0.06, color(0.3, 0.8, 1.0, 0.9)));
+  }
+  const json j = {{"deletions", json::array()},
+                  {"entities", json::array({std::move(mission), std::move(trail)})}};
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string geojson_json(const MapGeometry& geometry) {
+  json features = json::array();
+  for (const MapMark& m : geometry.marks) {
+    features.push_back({{"type", "Feature"},
+                        {"geometry", {{"type", "Point"}, {"coordinates", geo_position(m.at)}}},
+                        {"properties", {{"name", m.label}, {"kind", mark_kind_name(m.kind)}}}});
+  }
+  for (const MapArea& a : geometry.areas) {
+    if (a.corners.empty()) continue;
+    json ring = json::array();
+    for (const MapVertex& v : a.corners) ring.push_back(geo_position(v));
+    ring.push_back(geo_position(a.corners.front()));
+    const bool no_go = a.kind == MapArea::Kind::kNoGo;
+    features.push_back(
+        {{"type", "Feature"},
+         {"geometry", {{"type", "Polygon"}, {"coordinates", json::array({std::move(ring)})}}},
+         {"properties",
+          {{"name", a.label},
+           {"kind", area_kind_name(a.kind)},
+           {"style", {{"color", no_go ? "#ff3319" : "#e6e6e6"}, {"fill", no_go}}}}}});
+  }
+  const json collection = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+  const json j = {{"geojson", collection.dump(-1, ' ', false, json::error_handler_t::replace)}};
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

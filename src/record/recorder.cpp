@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <ctime>
 #include <vector>
@@ -58,6 +59,10 @@ std::string_view channel_topic(RecordChannel channel) {
       return "/log";
     case RecordChannel::kParams:
       return "/params";
+    case RecordChannel::kVizMap:
+      return "/viz/map";
+    case RecordChannel::kMapGeoJson:
+      return "/map/geojson";
   }
   return "/unknown";
 }
@@ -173,7 +178,10 @@ struct Recorder::WriterState {
                                  .sync = o.sync,
                                  .buffer_bytes = 1U << 20U}),
         scratch(Recorder::kRawSlotBytes + proto::kMaxRawOverheadBytes),
-        lidar(std::make_unique<core::Sample<msg::LidarScan>>()) {}
+        lidar(std::make_unique<core::Sample<msg::LidarScan>>()),
+        track_spacing_m(o.track_spacing_m) {
+    track.reserve(Recorder::kMaxTrackPoints);
+  }
   McapWriter writer;
   std::array<std::uint16_t, kRecordChannelCount> channel_ids{};
   std::vector<std::uint8_t> scratch;
@@ -184,6 +192,11 @@ struct Recorder::WriterState {
   [[nodiscard]] core::TimeNs utc(core::TimeNs stamp_ns) const { return stamp_ns + utc_offset_ns; }
   core::TimeNs last_chunk_ns = 0;
   core::TimeNs last_drop_log_ns = 0;
+  // The track drawn in /viz/map (navigation frame) and when the map was last written.
+  std::vector<VizPoint> track;
+  double track_spacing_m = 1.0;
+  bool map_written = false;
+  core::TimeNs last_map_ns = 0;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
   bool failure_reported = false;
 };
@@ -306,6 +319,10 @@ bool Recorder::start() {
           foxglove::kMessageEncoding);
   channel(RecordChannel::kLog, json_schema(foxglove::Schema::kLog), foxglove::kMessageEncoding);
   channel(RecordChannel::kParams, protobuf(Layout::kParameters), kProtobufEncoding);
+  channel(RecordChannel::kVizMap, json_schema(foxglove::Schema::kSceneUpdate),
+          foxglove::kMessageEncoding);
+  channel(RecordChannel::kMapGeoJson, json_schema(foxglove::Schema::kGeoJson),
+          foxglove::kMessageEncoding);
 
   const core::TimeNs now_ns = clock_.now_ns();
   const auto utc_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -502,6 +519,25 @@ void Recorder::write(RecordChannel channel, core::TimeNs stamp_ns, std::string_v
                                       json.size()));
 }
 
+void Recorder::extend_track(const TickViz& viz) {
+  WriterState& st = *state_;
+  const VizPoint here{viz.north_m, viz.east_m};
+  if (!st.track.empty()) {
+    const VizPoint& last = st.track.back();
+    if (std::hypot(here.north_m - last.north_m, here.east_m - last.east_m) < st.track_spacing_m) {
+      return;
+    }
+  }
+  if (st.track.size() >= kMaxTrackPoints) {
+    // Full: keep every other point and space the rest twice as far, so the whole run fits.
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < st.track.size(); i += 2) st.track[kept++] = st.track[i];
+    st.track.resize(kept);
+    st.track_spacing_m *= 2.0;
+  }
+  st.track.push_back(here);
+}
+
 bool Recorder::drain_once() {
   WriterState& st = *state_;
   bool any = false;
@@ -537,6 +573,14 @@ bool Recorder::drain_once() {
             foxglove::scene_update_json(
                 st.utc(s->now_ns), s->viz,
                 std::string_view(s->state_path.data(), s->state_path_length)));
+      if (s->viz.pose_valid) extend_track(s->viz);
+      if (!st.map_written || s->now_ns - st.last_map_ns >= options_.map_period_ns) {
+        st.map_written = true;
+        st.last_map_ns = s->now_ns;
+        write(RecordChannel::kVizMap, s->now_ns,
+              foxglove::map_scene_json(st.utc(s->now_ns), options_.map, st.track));
+        write(RecordChannel::kMapGeoJson, s->now_ns, foxglove::geojson_json(options_.map));
+      }
     }
     queues_->tick.pop();
   }

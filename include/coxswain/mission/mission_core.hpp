@@ -130,6 +130,7 @@ struct VizSegment {
 struct VizFrame {
   static constexpr std::size_t kMaxSegments = 256;
   static constexpr std::size_t kMaxDangerBins = 720;
+  static constexpr std::size_t kMaxPathPoints = 64;
   core::TimeNs stamp_ns = core::kNeverNs;
   bool pose_valid = false;
   core::NavPose pose;  // body origin (bow sensor reference), GPS-offset corrected
@@ -147,6 +148,14 @@ struct VizFrame {
   std::int32_t active_waypoint = -1;  // index in the current task's route, -1 none
   bool has_leg = false;
   core::NavPoint leg_start;
+  /// The gate being judged: its buoys as the lidar places them (by_lidar) or the nominal gate.
+  bool has_gate = false;
+  bool gate_by_lidar = false;
+  core::NavPoint gate_port;
+  core::NavPoint gate_starboard;
+  /// The global planner's path to the goal, thinned to at most kMaxPathPoints (0 = none).
+  std::uint32_t path_count = 0;
+  std::array<core::NavPoint, kMaxPathPoints> path{};
   double cross_track_m = 0.0;
   double distance_to_go_m = 0.0;
   double turn_command = 0.0;    // [-1, 1], + starboard

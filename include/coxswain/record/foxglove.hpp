@@ -7,17 +7,26 @@
 // viewers assume right-handed z-up frames; "gnss" for fixes. Allocates: writer thread only.
 // Pure functions; thread-safe.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include "coxswain/core/time.hpp"
 #include "coxswain/msg/gnss_fix.hpp"
 #include "coxswain/msg/lidar_scan.hpp"
+#include "coxswain/record/map_geometry.hpp"
 #include "coxswain/record/tick_record.hpp"
 
 namespace coxswain::record::foxglove {
 
-enum class Schema : std::uint8_t { kLocationFix, kLaserScan, kFrameTransform, kLog, kSceneUpdate };
+enum class Schema : std::uint8_t {
+  kLocationFix,
+  kLaserScan,
+  kFrameTransform,
+  kLog,
+  kSceneUpdate,
+  kGeoJson,
+};
 
 inline constexpr std::string_view kSchemaEncoding = "jsonschema";
 inline constexpr std::string_view kMessageEncoding = "json";
@@ -38,8 +47,16 @@ enum class LogLevel : std::uint8_t { kUnknown = 0, kDebug, kInfo, kWarning, kErr
 [[nodiscard]] std::string frame_transform_json(core::TimeNs stamp_ns, const TickViz& viz);
 [[nodiscard]] std::string log_json(core::TimeNs stamp_ns, LogLevel level, std::string_view name,
                                    std::string_view message);
-/// Hull, obstacles, target arrow, danger sector and the state path as a text label.
+/// Hull, obstacles, target arrow, danger sector and the state path as a text label (entity
+/// "boat"); the goal, leg, judged gate and planned path in the "map" frame (entity "route").
 [[nodiscard]] std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
                                             std::string_view state_path);
+
+/// The mission's geometry and the track so far (navigation frame, oldest first) in the "map"
+/// frame: entities "mission" and "track".
+[[nodiscard]] std::string map_scene_json(core::TimeNs stamp_ns, const MapGeometry& geometry,
+                                         std::span<const VizPoint> track);
+/// The mission's geometry as a GeoJSON FeatureCollection (foxglove.GeoJSON, Map panel).
+[[nodiscard]] std::string geojson_json(const MapGeometry& geometry);
 
 }  // namespace coxswain::record::foxglove

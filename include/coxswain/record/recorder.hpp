@@ -36,6 +36,7 @@
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/device_session.hpp"
 #include "coxswain/record/layouts.hpp"
+#include "coxswain/record/map_geometry.hpp"
 #include "coxswain/record/tick_record.hpp"
 
 namespace spdlog::sinks {
@@ -51,22 +52,24 @@ enum class RecordChannel : std::uint8_t {
   kRawGnss,
   kRawArduino,
   kRawCamera,
-  kTick,      // /tick
-  kGnss,      // /gnss
-  kImu,       // /imu
-  kLidar,     // /lidar
-  kCamera,    // /camera
-  kArduino,   // /arduino
-  kOperator,  // /operator
-  kHealth,    // /health
-  kVizFix,    // /viz/fix     foxglove.LocationFix
-  kVizScan,   // /viz/scan    foxglove.LaserScan
-  kVizPose,   // /tf          foxglove.FrameTransform (map -> boat)
-  kVizScene,  // /viz/scene   foxglove.SceneUpdate
-  kLog,       // /log         foxglove.Log
-  kParams,    // /params      coxswain.ParameterSet (applied live parameter sets)
+  kTick,        // /tick
+  kGnss,        // /gnss
+  kImu,         // /imu
+  kLidar,       // /lidar
+  kCamera,      // /camera
+  kArduino,     // /arduino
+  kOperator,    // /operator
+  kHealth,      // /health
+  kVizFix,      // /viz/fix     foxglove.LocationFix
+  kVizScan,     // /viz/scan    foxglove.LaserScan
+  kVizPose,     // /tf          foxglove.FrameTransform (map -> boat)
+  kVizScene,    // /viz/scene   foxglove.SceneUpdate
+  kLog,         // /log         foxglove.Log
+  kParams,      // /params      coxswain.ParameterSet (applied live parameter sets)
+  kVizMap,      // /viz/map     foxglove.SceneUpdate (mission geometry and track, "map" frame)
+  kMapGeoJson,  // /map/geojson foxglove.GeoJSON (mission geometry, Map panel)
 };
-inline constexpr std::size_t kRecordChannelCount = 19;
+inline constexpr std::size_t kRecordChannelCount = 21;
 
 [[nodiscard]] std::string_view channel_topic(RecordChannel channel);
 [[nodiscard]] RecordChannel raw_channel(msg::DeviceId device);
@@ -92,8 +95,14 @@ struct RecorderOptions {
   std::size_t lidar_queue_slots = 32;
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
-  std::string config_yaml;          // effective configuration (Metadata "config")
-  std::string build_version;        // Metadata "build"
+  /// The mission's geometry for /viz/map and /map/geojson, written with the track at the first
+  /// tick and every `map_period_ns` after (a viewer seeking into the file finds the last one).
+  MapGeometry map;
+  core::TimeNs map_period_ns = 5 * core::kNsPerSec;
+  double track_spacing_m = 1.0;  // the track keeps a point this far from the last (doubled
+                                 // whenever kMaxTrackPoints fill, every other point dropped)
+  std::string config_yaml;       // effective configuration (Metadata "config")
+  std::string build_version;     // Metadata "build"
   /// Further Metadata records (name -> key/value), e.g. the simulator's "course".
   std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>>
       extra_metadata;
@@ -124,6 +133,8 @@ class Recorder final : public drivers::RawByteSink {
  public:
   /// Bytes of one raw queue slot; a longer on_raw() is split over several slots/messages.
   static constexpr std::size_t kRawSlotBytes = 1024;
+  /// Points of the recorded track in /viz/map.
+  static constexpr std::size_t kMaxTrackPoints = 512;
 
   /// `store` (may be null) is sampled for the decoded channels; `clock` stamps log lines and
   /// paces chunk closes. Both must outlive the recorder.
@@ -175,6 +186,7 @@ class Recorder final : public drivers::RawByteSink {
   void run();
   void run_sampler();
   bool drain_once();
+  void extend_track(const TickViz& viz);
   bool sample_store();
   void write(RecordChannel channel, core::TimeNs stamp_ns, std::span<const std::uint8_t> data);
   void write(RecordChannel channel, core::TimeNs stamp_ns, std::string_view json);

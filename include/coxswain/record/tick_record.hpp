@@ -19,10 +19,17 @@ struct VizObstacle {
   float radius_m = 0.0F;
 };
 
+/// A point in the navigation frame (X north, Y east), metres.
+struct VizPoint {
+  double north_m = 0.0;
+  double east_m = 0.0;
+};
+
 /// The tick's visualization data (turned into foxglove.FrameTransform and foxglove.SceneUpdate
 /// on the recorder's thread). Fixed size: copied into the tick queue, never allocated.
 struct TickViz {
   static constexpr std::size_t kMaxObstacles = 32;
+  static constexpr std::size_t kMaxPathPoints = 64;
   /// Boat pose in the navigation frame (X north, Y east, metres; heading deg, 0 north, clockwise).
   bool pose_valid = false;
   double north_m = 0.0;
@@ -45,6 +52,20 @@ struct TickViz {
   double danger_range_m = 0.0;
   std::uint32_t obstacle_count = 0;
   std::array<VizObstacle, kMaxObstacles> obstacles{};
+  /// The route in the navigation frame: the goal and its arrival circle, the leg from its start,
+  /// the gate being judged (its buoys as seen by the lidar, or the nominal gate) and the global
+  /// planner's path.
+  bool goal_valid = false;
+  VizPoint goal;
+  double arrival_radius_m = 0.0;
+  bool leg_valid = false;
+  VizPoint leg_start;
+  bool gate_valid = false;
+  bool gate_by_lidar = false;
+  VizPoint gate_port;
+  VizPoint gate_starboard;
+  std::uint32_t path_count = 0;
+  std::array<VizPoint, kMaxPathPoints> path{};
   float hull_length_m = 1.2F;
   float hull_beam_m = 0.8F;
 };

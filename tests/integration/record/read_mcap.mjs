@@ -7,11 +7,16 @@
 // every channel with what the recorder said it wrote (expected.json) and with the file's own
 // Statistics record. Every channel must be one of the two: nothing Foxglove cannot decode.
 // Exit code 0 = all good.
+// Every foxglove.* JSON message is also validated against Foxglove's own published JSON Schema
+// (@foxglove/schemas), so our schema text cannot drift from theirs unnoticed.
 // Usage: node read_mcap.mjs RUN.mcap expected.json
-//   expected.json: {"written": {topic: count} (optional), "must_have": [topic, ...]}
+//   expected.json: {"written": {topic: count} (optional), "must_have": [topic, ...],
+//                   "layout": "path/to/foxglove-layout.json" (optional: every topic the layout
+//                   names must be a channel of the file)}
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { loadDecompressHandlers } from "@mcap/support";
 import Ajv2020 from "ajv/dist/2020.js";
+import * as foxgloveSchemas from "@foxglove/schemas/jsonschema.js";
 import protobuf from "protobufjs";
 import descriptor from "protobufjs/ext/descriptor.js";
 import { open, readFile } from "node:fs/promises";
@@ -37,6 +42,7 @@ const reader = await McapIndexedReader.Initialize({ readable, decompressHandlers
 // Schemas: every jsonschema one must compile (Ajv checks it against the meta-schema).
 const ajv = new Ajv2020({ strict: false, allErrors: true });
 const validators = new Map(); // channel id -> validate function
+const official = new Map(); // channel id -> validate function of Foxglove's published schema
 const protoTypes = new Map(); // channel id -> protobufjs Type
 const decoder = new TextDecoder();
 for (const [id, channel] of reader.channelsById) {
@@ -54,6 +60,11 @@ for (const [id, channel] of reader.channelsById) {
       fail(`${schema.name}: schema does not compile: ${e.message}`);
     }
     if (channel.messageEncoding !== "json") fail(`${channel.topic}: jsonschema but not json`);
+    if (schema.name.startsWith("foxglove.")) {
+      const theirs = foxgloveSchemas[schema.name.slice("foxglove.".length)];
+      if (!theirs) fail(`${channel.topic}: ${schema.name} is not one of Foxglove's schemas`);
+      else official.set(id, ajv.compile(theirs));
+    }
   } else if (schema.encoding === "protobuf") {
     try {
       const set = descriptor.FileDescriptorSet.decode(schema.data);
@@ -94,6 +105,11 @@ for await (const message of reader.readMessages({ validateCrcs: true })) {
     if (!validate(value)) {
       if (invalid++ < 5) fail(`${channel.topic}: ${ajv.errorsText(validate.errors)}`);
     }
+    const theirs = official.get(message.channelId);
+    if (theirs && !theirs(value)) {
+      if (invalid++ < 5) fail(`${channel.topic} (Foxglove's schema): ${ajv.errorsText(theirs.errors)}`);
+    }
+    checkJson(channel.topic, value);
   } else if (type) {
     let value;
     try {
@@ -105,6 +121,30 @@ for await (const message of reader.readMessages({ validateCrcs: true })) {
     checkDecoded(channel.topic, value);
   } else {
     if (undecodable++ < 5) fail(`${channel.topic}: no decoder for this channel`);
+  }
+}
+
+// The map: a GeoJSON FeatureCollection whose positions are on the globe.
+function checkJson(topic, value) {
+  if (topic !== "/map/geojson") return;
+  let collection;
+  try {
+    collection = JSON.parse(value.geojson);
+  } catch (e) {
+    if (invalid++ < 5) fail(`/map/geojson: not JSON: ${e.message}`);
+    return;
+  }
+  if (collection.type !== "FeatureCollection" || !Array.isArray(collection.features)) {
+    if (invalid++ < 5) fail("/map/geojson: not a FeatureCollection");
+    return;
+  }
+  const positions = (g) => (g.type === "Point" ? [g.coordinates] : g.coordinates.flat());
+  for (const f of collection.features) {
+    for (const [lon, lat] of positions(f.geometry)) {
+      if (!(Math.abs(lat) <= 90 && Math.abs(lon) <= 180) && invalid++ < 5) {
+        fail(`/map/geojson: ${f.properties?.name}: ${lon}, ${lat} is not a position`);
+      }
+    }
   }
 }
 
@@ -162,6 +202,64 @@ if (expected.written) {
 for (const topic of expected.must_have) {
   if (!counts.get(topic)) fail(`${topic}: no messages`);
 }
+if (expected.layout) {
+  const channels = new Set([...reader.channelsById.values()].map((c) => c.topic));
+  const layout = JSON.parse(await readFile(expected.layout, "utf8"));
+  const named = layoutTopics(layout);
+  if (named.size === 0) fail(`${expected.layout}: names no topic`);
+  for (const topic of named) {
+    if (!channels.has(topic)) fail(`${expected.layout} names ${topic}, not a channel of the file`);
+  }
+  // A message path into a protobuf channel must name fields of its type.
+  const typeOf = new Map();
+  for (const [id, type] of protoTypes) typeOf.set(reader.channelsById.get(id).topic, type);
+  for (const path of layoutPaths(layout)) {
+    const [topic, ...fields] = path.replace(/\[[^\]]*\]/g, "").split(".");
+    let type = typeOf.get(topic);
+    for (const name of fields) {
+      if (!type) break;
+      const field = type.fields[name];
+      if (!field) {
+        fail(`${expected.layout}: ${path}: ${type.name} has no field ${name}`);
+        break;
+      }
+      type = field.resolve().resolvedType instanceof protobuf.Type ? field.resolvedType : null;
+    }
+  }
+  console.log(`${expected.layout}: ${named.size} topics, all in the file`);
+}
+
+// Every topic string a Foxglove layout holds: the keys of the per-topic settings of a 3D or Map
+// panel, the topic of an Image, Map or Log panel, and every message path ("/tick.command.x").
+function layoutStrings(layout) {
+  const topicKeyed = ["topics", "topicColors"];
+  const topicValued = ["value", "path", "topic", "imageTopic", "topicPath", "topicToRender",
+                       "followTopic"];
+  const found = [];
+  const visit = (node, key) => {
+    if (Array.isArray(node)) {
+      for (const v of node) visit(v, key);
+    } else if (node && typeof node === "object") {
+      for (const [k, v] of Object.entries(node)) {
+        if (topicKeyed.includes(k) && v && typeof v === "object" && !Array.isArray(v)) {
+          for (const t of Object.keys(v)) if (t.startsWith("/")) found.push(t);
+        }
+        visit(v, k);
+      }
+    } else if (typeof node === "string" && node.startsWith("/") && topicValued.includes(key)) {
+      found.push(node);
+    }
+  };
+  visit(layout.configById ?? layout, "");
+  return found;
+}
+function layoutTopics(layout) {
+  return new Set(layoutStrings(layout).map((s) => s.split(/[.{[]/)[0]));
+}
+function layoutPaths(layout) {
+  return layoutStrings(layout).filter((s) => s.includes("."));
+}
+
 const stats = reader.statistics;
 if (!stats) fail("no Statistics record");
 else {

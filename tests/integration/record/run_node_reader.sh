@@ -12,6 +12,7 @@ src=$2
 work=$3
 sim=$4
 config=$5
+layout="$config/foxglove/layout.json"  # the shipped Foxglove layout
 if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
   echo "SKIP: node and npm are needed to open the recording with @mcap/core (apt-get install nodejs npm)"
   exit 77
@@ -53,7 +54,7 @@ for (const [topic, n] of Object.entries(r.recording.dropped)) {
 }
 fs.writeFileSync(process.argv[2], JSON.stringify({ written: r.recording.written,
   must_have: ["/tick", "/lidar", "/imu", "/gnss", "/operator", "/viz/scene", "/tf", "/viz/scan",
-              "/viz/fix"] }));
+              "/viz/fix", "/viz/map", "/map/geojson"] }));
 ' "$work/sim/result.json" "$work/sim/expected.json"
 node "$work/node/read_mcap.mjs" "$work/sim/run.mcap" "$work/sim/expected.json"
 
@@ -70,5 +71,6 @@ if [ -z "$mcap" ]; then
   exit 1
 fi
 echo '{"must_have": ["/tick", "/lidar", "/imu", "/gnss", "/arduino", "/health", "/raw/lidar",
-  "/raw/imu", "/raw/gnss", "/raw/arduino", "/viz/scene", "/tf", "/log"]}' >"$work/devices/expected.json"
+  "/raw/imu", "/raw/gnss", "/raw/arduino", "/viz/scene", "/tf", "/log", "/viz/map", "/map/geojson"],
+  "layout": "'"$layout"'"}' >"$work/devices/expected.json"
 node "$work/node/read_mcap.mjs" "$mcap" "$work/devices/expected.json"

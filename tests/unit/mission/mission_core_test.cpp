@@ -506,6 +506,27 @@ TEST(MissionObstacleCourse, ATrackCrossingOutsideTheGateTurnsTheBoatBackAndNever
   EXPECT_TRUE(rig->logged("passed gate 1 between its buoys")) << rig->log_text();
 }
 
+TEST(MissionObstacleCourse, TheViewersSeeThePlannedPathAndTheGateBeingJudged) {
+  auto rig = std::make_unique<Rig>(gate_config());
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  const VizFrame& v = rig->out.viz;
+  // No buoys in sight: the nominal gate, 3 m wide, square to the leg through the waypoint.
+  ASSERT_TRUE(v.has_gate);
+  EXPECT_FALSE(v.gate_by_lidar);
+  EXPECT_NEAR(core::distance_m(v.gate_port, v.gate_starboard), 3.0, 1e-6);
+  EXPECT_NEAR(0.5 * (v.gate_port.north_m + v.gate_starboard.north_m), 20.0, 1e-6);
+  EXPECT_LT(v.gate_port.east_m, v.gate_starboard.east_m);  // port is west, heading north
+  // The planner's path, from near the boat to the goal, thinned to the frame.
+  ASSERT_GE(v.path_count, 2U);
+  ASSERT_LE(v.path_count, VizFrame::kMaxPathPoints);
+  EXPECT_LT(core::distance_m(v.path[0], rig->position), 1.5);
+  EXPECT_LT(core::distance_m(v.path[v.path_count - 1], v.goal), 1.0);
+  for (std::uint32_t i = 1; i < v.path_count; ++i) {
+    EXPECT_GT(core::distance_m(v.path[i], v.path[i - 1]), 0.0) << i;  // no point twice
+  }
+}
+
 TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrivesAtTheGoal) {
   config::Configuration c = gate_config();
   const core::LocalFrame f(c.mission.origin);
@@ -521,6 +542,7 @@ TEST(MissionObstacleCourse, WithNoPathTheBoatStopsBacksOffAndLooksButNeverDrives
   rig->run_for(1.0);
   ASSERT_EQ(rig->path(), "obstacle_course/no_path") << rig->log_text();
   EXPECT_TRUE(rig->logged("no path to the goal")) << rig->log_text();
+  EXPECT_EQ(rig->out.viz.path_count, 0U);  // no path is drawn as none
   bool looked = false;
   bool backed_off = false;
   double thrust = rig->thrust_frac();

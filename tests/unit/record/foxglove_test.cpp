@@ -4,8 +4,11 @@
 // schemas use; the integration test also checks them with ajv).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <vector>
 
 #include "coxswain/record/foxglove.hpp"
 
@@ -71,6 +74,7 @@ TEST(Foxglove, SchemasAreObjectsWithFoxgloveFieldNames) {
        {"timestamp", "parent_frame_id", "child_frame_id", "translation", "rotation"}},
       {Schema::kLog, {"timestamp", "level", "message", "name", "file", "line"}},
       {Schema::kSceneUpdate, {"deletions", "entities"}},
+      {Schema::kGeoJson, {"geojson"}},
   };
   for (const auto& [s, fields] : expected) {
     const json j = schema(s);
@@ -148,6 +152,122 @@ TEST(Foxglove, MessagesValidateAgainstTheirSchemas) {
   const json g = json::parse(log_json(30, LogLevel::kWarning, "coxswain", "bad \xff byte"));
   EXPECT_EQ(validate(schema(Schema::kLog), g), "");
   EXPECT_EQ(g["level"], 3);
+}
+
+TEST(Foxglove, NumbersAreRoundedToWhatTheViewsShow) {
+  TickViz viz;
+  viz.pose_valid = true;
+  viz.north_m = 0.1 + 0.2;  // 0.30000000000000004
+  viz.east_m = 1.23456789;
+  viz.heading_deg = 33.3;
+  const std::string t = frame_transform_json(0, viz);
+  const json j = json::parse(t);
+  EXPECT_EQ(j["translation"]["y"].dump(), "0.3");
+  EXPECT_EQ(j["translation"]["x"].dump(), "1.235");
+  EXPECT_LE(j["rotation"]["z"].dump().size(), 9U);  // at most six decimals
+  EXPECT_NEAR(j["rotation"]["z"].get<double>(), std::sin((90.0 - 33.3) * std::numbers::pi / 360.0),
+              1e-6);
+}
+
+TEST(Foxglove, RouteIsDrawnInTheMapFrame) {
+  TickViz viz;
+  viz.pose_valid = true;
+  EXPECT_EQ(json::parse(scene_update_json(0, viz, "S"))["entities"].size(), 1U);  // no route
+  viz.goal_valid = true;
+  viz.goal = {20.0, 10.0};
+  viz.arrival_radius_m = 1.5;
+  viz.leg_valid = true;
+  viz.leg_start = {0.0, 0.0};
+  viz.gate_valid = true;
+  viz.gate_by_lidar = true;
+  viz.gate_port = {20.0, 8.5};
+  viz.gate_starboard = {20.0, 11.5};
+  viz.path_count = 3;
+  viz.path[0] = {0.0, 0.0};
+  viz.path[1] = {10.0, 2.0};
+  viz.path[2] = {20.0, 10.0};
+  const json s = json::parse(scene_update_json(0, viz, "S"));
+  EXPECT_EQ(validate(schema(Schema::kSceneUpdate), s), "");
+  ASSERT_EQ(s["entities"].size(), 2U);
+  const json& route = s["entities"][1];
+  EXPECT_EQ(route["id"], "route");
+  EXPECT_EQ(route["frame_id"], "map");
+  EXPECT_FALSE(route["frame_locked"].get<bool>());
+  ASSERT_EQ(route["cylinders"].size(), 1U);  // the goal's arrival circle
+  EXPECT_DOUBLE_EQ(route["cylinders"][0]["size"]["x"].get<double>(), 3.0);
+  // map is east-north-up: x east, y north.
+  EXPECT_DOUBLE_EQ(route["cylinders"][0]["pose"]["position"]["x"].get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(route["cylinders"][0]["pose"]["position"]["y"].get<double>(), 20.0);
+  ASSERT_EQ(route["lines"].size(), 3U);  // leg, gate, path
+  EXPECT_EQ(route["lines"][0]["points"].size(), 2U);
+  EXPECT_DOUBLE_EQ(route["lines"][1]["points"][0]["x"].get<double>(), 8.5);
+  EXPECT_EQ(route["lines"][2]["points"].size(), 3U);
+  EXPECT_DOUBLE_EQ(route["lines"][2]["points"][1]["x"].get<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(route["lines"][2]["points"][1]["y"].get<double>(), 10.0);
+}
+
+MapGeometry sample_geometry() {
+  MapGeometry g;
+  g.marks.push_back({MapMark::Kind::kWaypoint, "hopping 1", {35.1, 129.0, {0.0, 0.0}}});
+  g.marks.push_back({MapMark::Kind::kSlip, "docking slip 1", {35.1001, 129.0002, {11.1, 18.2}}});
+  g.areas.push_back({MapArea::Kind::kBoundary,
+                     "boundary",
+                     {{35.0999, 128.9999, {-11.1, -9.1}},
+                      {35.0999, 129.0003, {-11.1, 27.3}},
+                      {35.1002, 129.0003, {22.2, 27.3}}}});
+  g.areas.push_back({MapArea::Kind::kNoGo, "no-go 1", {}});  // nothing to draw
+  return g;
+}
+
+TEST(Foxglove, MapSceneHoldsTheMissionAndTheTrack) {
+  const MapGeometry g = sample_geometry();
+  const std::vector<VizPoint> track{{0.0, 0.0}, {1.0, 1.0}, {2.0, 3.0}};
+  const json s = json::parse(map_scene_json(7, g, track));
+  EXPECT_EQ(validate(schema(Schema::kSceneUpdate), s), "");
+  ASSERT_EQ(s["entities"].size(), 2U);
+  const json& mission = s["entities"][0];
+  EXPECT_EQ(mission["id"], "mission");
+  EXPECT_EQ(mission["frame_id"], "map");
+  ASSERT_EQ(mission["spheres"].size(), 2U);
+  EXPECT_DOUBLE_EQ(mission["spheres"][1]["pose"]["position"]["x"].get<double>(), 18.2);  // east
+  EXPECT_EQ(mission["texts"][1]["text"], "docking slip 1");
+  ASSERT_EQ(mission["lines"].size(), 1U);  // the empty no-go area is left out
+  const json& ring = mission["lines"][0]["points"];
+  ASSERT_EQ(ring.size(), 4U);  // closed
+  EXPECT_EQ(ring[0], ring[3]);
+  const json& trail = s["entities"][1];
+  EXPECT_EQ(trail["id"], "track");
+  ASSERT_EQ(trail["lines"].size(), 1U);
+  EXPECT_EQ(trail["lines"][0]["points"].size(), 3U);
+  EXPECT_DOUBLE_EQ(trail["lines"][0]["points"][2]["x"].get<double>(), 3.0);
+  // A single point is no line yet.
+  const std::vector<VizPoint> one{{0.0, 0.0}};
+  EXPECT_TRUE(json::parse(map_scene_json(7, g, one))["entities"][1]["lines"].empty());
+}
+
+TEST(Foxglove, GeoJsonPlacesTheMissionOnTheGlobe) {
+  const json j = json::parse(geojson_json(sample_geometry()));
+  EXPECT_EQ(validate(schema(Schema::kGeoJson), j), "");
+  const json c = json::parse(j["geojson"].get<std::string>());
+  EXPECT_EQ(c["type"], "FeatureCollection");
+  ASSERT_EQ(c["features"].size(), 3U);
+  const json& wp = c["features"][0];
+  EXPECT_EQ(wp["geometry"]["type"], "Point");
+  // GeoJSON positions are [longitude, latitude].
+  EXPECT_DOUBLE_EQ(wp["geometry"]["coordinates"][0].get<double>(), 129.0);
+  EXPECT_DOUBLE_EQ(wp["geometry"]["coordinates"][1].get<double>(), 35.1);
+  EXPECT_EQ(wp["properties"]["name"], "hopping 1");
+  EXPECT_EQ(c["features"][1]["properties"]["kind"], "slip");
+  const json& area = c["features"][2];
+  EXPECT_EQ(area["geometry"]["type"], "Polygon");
+  const json& ring = area["geometry"]["coordinates"][0];
+  ASSERT_EQ(ring.size(), 4U);
+  EXPECT_EQ(ring.front(), ring.back());
+  EXPECT_DOUBLE_EQ(ring[1][0].get<double>(), 129.0003);
+  EXPECT_EQ(area["properties"]["kind"], "boundary");
+  // Nothing at all: an empty collection, still valid.
+  const json none = json::parse(json::parse(geojson_json({}))["geojson"].get<std::string>());
+  EXPECT_TRUE(none["features"].empty());
 }
 
 TEST(Foxglove, ValidatorRejectsWrongMessages) {

@@ -99,10 +99,73 @@ FileSummary summarize(const fs::path& path) {
   return s;
 }
 
+/// The JSON of every message on `topic`, in file order.
+std::vector<nlohmann::json> json_messages(const fs::path& path, std::string_view topic) {
+  std::vector<nlohmann::json> out;
+  McapReader reader;
+  EXPECT_TRUE(reader.open(path));
+  (void)reader.read([&](const McapMessageView& m) {
+    // The channels are known once reading has begun.
+    if (reader.channels().at(m.channel_id).topic == topic) {
+      out.push_back(nlohmann::json::parse(m.data.begin(), m.data.end()));
+    }
+  });
+  return out;
+}
+
 std::vector<std::uint8_t> pattern(std::size_t n, std::uint32_t seed) {
   std::vector<std::uint8_t> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint8_t>((i * 131 + seed) & 0xFF);
   return v;
+}
+
+TEST(Recorder, MapIsWrittenEveryPeriodWithTheWholeTrackThinned) {
+  const fs::path path = temp_path("map.mcap");
+  auto store = std::make_unique<core::LatestStore>();
+  core::SteadyClock clock;
+  RecorderOptions o = fast_options(path);
+  o.map.marks.push_back({MapMark::Kind::kWaypoint, "hopping 1", {35.1, 129.0, {30.0, 0.0}}});
+  Recorder rec(o, store.get(), clock);
+  ASSERT_TRUE(rec.start()) << rec.stats().error;
+  auto snap = std::make_unique<core::Snapshot>();
+  TickViz viz;
+  viz.pose_valid = true;
+  // 2000 ticks 20 ms apart (40 s), the boat 1.5 m further north at each: 3 km of track.
+  constexpr std::uint64_t kTicks = 2000;
+  for (std::uint64_t i = 0; i < kTicks; ++i) {
+    viz.north_m = 1.5 * static_cast<double>(i);
+    TickInput in;
+    in.tick_index = i;
+    in.now_ns = static_cast<core::TimeNs>(i) * 20 * core::kNsPerMs;
+    in.snapshot = snap.get();
+    in.viz = &viz;
+    ASSERT_TRUE(wait_for([&] { return rec.record_tick(in); }));
+  }
+  rec.stop();
+  const RecorderStats st = rec.stats();
+  EXPECT_EQ(st[RecordChannel::kTick].written, kTicks);
+  // At 0 s, then whenever 5 s have passed: 0, 5, ..., 35 s.
+  EXPECT_EQ(st[RecordChannel::kVizMap].written, 8U);
+  EXPECT_EQ(st[RecordChannel::kMapGeoJson].written, 8U);
+  const auto maps = json_messages(path, "/viz/map");
+  ASSERT_EQ(maps.size(), 8U);
+  EXPECT_EQ(maps[0]["entities"][0]["texts"][0]["text"], "hopping 1");
+  EXPECT_TRUE(maps[0]["entities"][1]["lines"].empty());  // one point: no line yet
+  const auto& track = maps.back()["entities"][1]["lines"][0]["points"];
+  // Bounded, yet from the start to about where the boat was at 35 s (1750 ticks).
+  EXPECT_LE(track.size(), Recorder::kMaxTrackPoints);
+  EXPECT_GE(track.size(), Recorder::kMaxTrackPoints / 4);
+  EXPECT_DOUBLE_EQ(track.front()["y"].get<double>(), 0.0);
+  EXPECT_NEAR(track.back()["y"].get<double>(), 1.5 * 1750, 16.0);
+  double last_y = -1.0;
+  for (const auto& p : track) {
+    EXPECT_GT(p["y"].get<double>(), last_y);  // in order, no point twice
+    last_y = p["y"].get<double>();
+  }
+  const auto geo = json_messages(path, "/map/geojson");
+  ASSERT_EQ(geo.size(), 8U);
+  EXPECT_NE(geo[0]["geojson"].get<std::string>().find("hopping 1"), std::string::npos);
+  fs::remove(path);
 }
 
 TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
@@ -221,6 +284,9 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   EXPECT_EQ(st[RecordChannel::kTick].written, 100U);
   EXPECT_EQ(st[RecordChannel::kVizScene].written, 50U);
   EXPECT_EQ(st[RecordChannel::kVizPose].written, 50U);
+  // 100 ticks 20 ms apart: the map at the first tick only (period 5 s).
+  EXPECT_EQ(st[RecordChannel::kVizMap].written, 1U);
+  EXPECT_EQ(st[RecordChannel::kMapGeoJson].written, 1U);
   EXPECT_EQ(st[RecordChannel::kLog].written, 10U);
   EXPECT_EQ(st[RecordChannel::kParams].written, 1U);
   ASSERT_EQ(f.parameter_sets.size(), 1U);

@@ -65,6 +65,7 @@ RunRecorder::RunRecorder(std::filesystem::path path, const config::Configuration
   options.path = std::move(path);
   options.config_yaml = config::to_yaml(config);
   options.build_version = build_version;
+  options.map = host::map_geometry(config.mission);
   options.sync = false;            // a simulation: no power loss to survive, and fdatasync is slow
   options.sampler_thread = false;  // sample() after every lockstep step instead
   if (!course.empty()) options.extra_metadata.push_back({"course", {{"json", course}}});
