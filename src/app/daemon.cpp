@@ -224,6 +224,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   }
   // The control socket, status page and live view: the only writer of operator_input.
   live::LiveOptions live_options;
+  live_options.map = host::map_geometry(config.mission);
   live_options.socket_path = config.devices.live.control_socket.empty()
                                  ? options.run_dir / "control.sock"
                                  : std::filesystem::path(config.devices.live.control_socket);

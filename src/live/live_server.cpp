@@ -34,6 +34,7 @@
 #include "coxswain/live/request_guard.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/record/foxglove.hpp"
+#include "coxswain/record/track_line.hpp"
 #include "status_page.hpp"
 
 namespace coxswain::live {
@@ -58,12 +59,23 @@ struct ChannelInfo {
   std::string_view topic;
   fox::Schema schema;
 };
-enum ChannelId : std::uint32_t { kTf = 1, kScene = 2, kScan = 3, kFix = 4, kLog = 5 };
-const std::array<ChannelInfo, 5> kChannels = {{{kTf, "/tf", fox::Schema::kFrameTransform},
+enum ChannelId : std::uint32_t {
+  kTf = 1,
+  kScene = 2,
+  kScan = 3,
+  kFix = 4,
+  kLog = 5,
+  kMap = 6,
+  kGeoJson = 7,
+};
+// The same topics as the recording's, so one Foxglove layout serves both.
+const std::array<ChannelInfo, 7> kChannels = {{{kTf, "/tf", fox::Schema::kFrameTransform},
                                                {kScene, "/viz/scene", fox::Schema::kSceneUpdate},
                                                {kScan, "/viz/scan", fox::Schema::kLaserScan},
                                                {kFix, "/viz/fix", fox::Schema::kLocationFix},
-                                               {kLog, "/log", fox::Schema::kLog}}};
+                                               {kLog, "/log", fox::Schema::kLog},
+                                               {kMap, "/viz/map", fox::Schema::kSceneUpdate},
+                                               {kGeoJson, "/map/geojson", fox::Schema::kGeoJson}}};
 
 std::string message_data(std::uint32_t subscription_id, core::TimeNs stamp_ns,
                          std::string_view payload) {
@@ -151,6 +163,11 @@ struct LiveServer::Impl {
   std::uint64_t sent_tick_seq = 0;
   std::uint64_t sent_scan_seq = 0;
   std::uint64_t sent_fix_seq = 0;
+  // The map: the track since start (kept with or without viewers, so a late one sees it all),
+  // sent every map_period_ns and at once to a new subscriber.
+  record::TrackLine track;
+  core::TimeNs last_map_ns = 0;
+  std::size_t map_subscriptions = 0;
   std::optional<mission::TunableParameters> pending;  // latest requested set
 
   // Bounded resources (server thread).
@@ -989,18 +1006,37 @@ void LiveServer::Impl::on_viz_timer() {
       for (std::uint32_t sub : subs) c->send(message_data(sub, stamp_ns, payload), true);
     }
   };
+  if (tick_slot.sequence() != sent_tick_seq) {
+    const core::Sample<LiveTick> t = tick_slot.read();
+    sent_tick_seq = t.sequence;
+    if (t.value.viz.pose_valid) track.add({t.value.viz.north_m, t.value.viz.east_m});
+    if (any_subscribed(kTf))
+      broadcast(kTf, t.stamp_ns, fox::frame_transform_json(t.stamp_ns, t.value.viz));
+    if (any_subscribed(kScene)) {
+      broadcast(kScene, t.stamp_ns,
+                fox::scene_update_json(t.stamp_ns, t.value.viz,
+                                       t.value.summary.status.state_path.view()));
+    }
+  }
   if (!clients.empty()) {
-    if (tick_slot.sequence() != sent_tick_seq && (any_subscribed(kTf) || any_subscribed(kScene))) {
-      const core::Sample<LiveTick> t = tick_slot.read();
-      sent_tick_seq = t.sequence;
-      if (any_subscribed(kTf))
-        broadcast(kTf, t.stamp_ns, fox::frame_transform_json(t.stamp_ns, t.value.viz));
-      if (any_subscribed(kScene)) {
-        broadcast(kScene, t.stamp_ns,
-                  fox::scene_update_json(t.stamp_ns, t.value.viz,
-                                         t.value.summary.status.state_path.view()));
+    std::size_t map_subs = 0;
+    for (const auto& weak : clients) {
+      if (const auto c = weak.lock()) {
+        c->subscriptions_of(kMap, subs);
+        map_subs += subs.size();
+        c->subscriptions_of(kGeoJson, subs);
+        map_subs += subs.size();
       }
     }
+    const core::TimeNs now = clock.now_ns();
+    // A new subscriber gets the map now (it is sent to all: small, and rare).
+    if (map_subs > 0 &&
+        (map_subs > map_subscriptions || now - last_map_ns >= options.map_period_ns)) {
+      last_map_ns = now;
+      broadcast(kMap, now, fox::map_scene_json(now, options.map, track.points()));
+      broadcast(kGeoJson, now, fox::geojson_json(options.map));
+    }
+    map_subscriptions = map_subs;
     if (store.lidar.sequence() != sent_scan_seq && any_subscribed(kScan)) {
       store.lidar.read(*scan);
       sent_scan_seq = scan->sequence;

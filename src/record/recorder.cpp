@@ -16,6 +16,7 @@
 #include "coxswain/record/mcap_writer.hpp"
 #include "coxswain/record/proto_codec.hpp"
 #include "coxswain/record/spsc_ring.hpp"
+#include "coxswain/record/track_line.hpp"
 
 namespace coxswain::record {
 
@@ -179,9 +180,7 @@ struct Recorder::WriterState {
                                  .buffer_bytes = 1U << 20U}),
         scratch(Recorder::kRawSlotBytes + proto::kMaxRawOverheadBytes),
         lidar(std::make_unique<core::Sample<msg::LidarScan>>()),
-        track_spacing_m(o.track_spacing_m) {
-    track.reserve(Recorder::kMaxTrackPoints);
-  }
+        track(o.track_spacing_m) {}
   McapWriter writer;
   std::array<std::uint16_t, kRecordChannelCount> channel_ids{};
   std::vector<std::uint8_t> scratch;
@@ -193,8 +192,7 @@ struct Recorder::WriterState {
   core::TimeNs last_chunk_ns = 0;
   core::TimeNs last_drop_log_ns = 0;
   // The track drawn in /viz/map (navigation frame) and when the map was last written.
-  std::vector<VizPoint> track;
-  double track_spacing_m = 1.0;
+  TrackLine track;
   bool map_written = false;
   core::TimeNs last_map_ns = 0;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
@@ -519,25 +517,6 @@ void Recorder::write(RecordChannel channel, core::TimeNs stamp_ns, std::string_v
                                       json.size()));
 }
 
-void Recorder::extend_track(const TickViz& viz) {
-  WriterState& st = *state_;
-  const VizPoint here{viz.north_m, viz.east_m};
-  if (!st.track.empty()) {
-    const VizPoint& last = st.track.back();
-    if (std::hypot(here.north_m - last.north_m, here.east_m - last.east_m) < st.track_spacing_m) {
-      return;
-    }
-  }
-  if (st.track.size() >= kMaxTrackPoints) {
-    // Full: keep every other point and space the rest twice as far, so the whole run fits.
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < st.track.size(); i += 2) st.track[kept++] = st.track[i];
-    st.track.resize(kept);
-    st.track_spacing_m *= 2.0;
-  }
-  st.track.push_back(here);
-}
-
 bool Recorder::drain_once() {
   WriterState& st = *state_;
   bool any = false;
@@ -573,12 +552,12 @@ bool Recorder::drain_once() {
             foxglove::scene_update_json(
                 st.utc(s->now_ns), s->viz,
                 std::string_view(s->state_path.data(), s->state_path_length)));
-      if (s->viz.pose_valid) extend_track(s->viz);
+      if (s->viz.pose_valid) st.track.add({s->viz.north_m, s->viz.east_m});
       if (!st.map_written || s->now_ns - st.last_map_ns >= options_.map_period_ns) {
         st.map_written = true;
         st.last_map_ns = s->now_ns;
         write(RecordChannel::kVizMap, s->now_ns,
-              foxglove::map_scene_json(st.utc(s->now_ns), options_.map, st.track));
+              foxglove::map_scene_json(st.utc(s->now_ns), options_.map, st.track.points()));
         write(RecordChannel::kMapGeoJson, s->now_ns, foxglove::geojson_json(options_.map));
       }
     }

@@ -22,6 +22,7 @@
 #include "coxswain/live/control_protocol.hpp"
 #include "coxswain/mission/mission_core.hpp"
 #include "coxswain/msg/operator_input.hpp"
+#include "coxswain/record/map_geometry.hpp"
 #include "coxswain/record/tick_record.hpp"
 
 namespace coxswain::live {
@@ -53,6 +54,10 @@ struct LiveOptions {
   /// socket: HTTP connections are limited to (RLIMIT_NOFILE - reserve) / 2 if that is lower.
   std::size_t fd_reserve = 256;
   std::string name = "coxswain";  // serverInfo name
+  /// The mission's geometry for /viz/map and /map/geojson (sent with the track every
+  /// map_period_ns, and at once to a new subscriber).
+  record::MapGeometry map;
+  core::TimeNs map_period_ns = 5 * core::kNsPerSec;
   /// Published as the first OperatorInput when not kUnknown (the daemon's --target).
   msg::Colour initial_target_colour = msg::Colour::kUnknown;
   msg::Shape initial_target_shape = msg::Shape::kUnknown;

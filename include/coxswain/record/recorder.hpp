@@ -99,8 +99,7 @@ struct RecorderOptions {
   /// tick and every `map_period_ns` after (a viewer seeking into the file finds the last one).
   MapGeometry map;
   core::TimeNs map_period_ns = 5 * core::kNsPerSec;
-  double track_spacing_m = 1.0;  // the track keeps a point this far from the last (doubled
-                                 // whenever kMaxTrackPoints fill, every other point dropped)
+  double track_spacing_m = 1.0;  // the track's first spacing (record::TrackLine)
   std::string config_yaml;       // effective configuration (Metadata "config")
   std::string build_version;     // Metadata "build"
   /// Further Metadata records (name -> key/value), e.g. the simulator's "course".
@@ -133,8 +132,6 @@ class Recorder final : public drivers::RawByteSink {
  public:
   /// Bytes of one raw queue slot; a longer on_raw() is split over several slots/messages.
   static constexpr std::size_t kRawSlotBytes = 1024;
-  /// Points of the recorded track in /viz/map.
-  static constexpr std::size_t kMaxTrackPoints = 512;
 
   /// `store` (may be null) is sampled for the decoded channels; `clock` stamps log lines and
   /// paces chunk closes. Both must outlive the recorder.
@@ -186,7 +183,6 @@ class Recorder final : public drivers::RawByteSink {
   void run();
   void run_sampler();
   bool drain_once();
-  void extend_track(const TickViz& viz);
   bool sample_store();
   void write(RecordChannel channel, core::TimeNs stamp_ns, std::span<const std::uint8_t> data);
   void write(RecordChannel channel, core::TimeNs stamp_ns, std::string_view json);

@@ -90,7 +90,7 @@ class LiveServerTest : public ::testing::Test {
         t.summary.tick_index = ++i;
         t.summary.status.state_path.assign("wait_for_start");
         t.viz.pose_valid = true;
-        t.viz.north_m = 1.0;
+        t.viz.north_m = 1.0 + 0.05 * static_cast<double>(i);  // 10 m/s north: a track
         t.viz.east_m = 2.0;
         server_->publish_tick(t, clock_.now_ns());
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -274,17 +274,76 @@ TEST_F(LiveServerTest, StatusPageAndTokenProtectedButtons) {
   EXPECT_EQ(request(http::verb::get, "/nowhere").result(), http::status::not_found);
 }
 
-TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
-  start_tick();
-  asio::io_context ioc;
-  websocket::stream<tcp::socket> ws(ioc);
-  ws.next_layer().connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
+/// A Foxglove WebSocket client's handshake with the test server.
+void connect_foxglove(websocket::stream<tcp::socket>& ws, std::uint16_t port) {
+  ws.next_layer().connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
   ws.set_option(websocket::stream_base::decorator([](websocket::request_type& req) {
     req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
   }));
   websocket::response_type handshake;
   ws.handshake(handshake, "127.0.0.1", std::string("/?token=") + kToken);
   EXPECT_EQ(handshake[http::field::sec_websocket_protocol], "foxglove.websocket.v1");
+}
+
+TEST_F(LiveServerTest, TheMapIsSentAtOnceToANewSubscriberAndAgainWithTheTrack) {
+  LiveOptions o = options();
+  o.map.marks.push_back({record::MapMark::Kind::kWaypoint, "hopping 1", {35.1, 129.0, {9.0, 1.0}}});
+  o.map_period_ns = 100 * core::kNsPerMs;
+  restart(o);
+  start_tick();
+  asio::io_context ioc;
+  websocket::stream<tcp::socket> ws(ioc);
+  connect_foxglove(ws, server_->http_port());
+  beast::flat_buffer buf;
+  const auto next = [&]() {
+    buf.clear();
+    ws.read(buf);
+    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
+  };
+  (void)next();  // serverInfo
+  const auto adv = json::parse(next().second);
+  std::uint32_t map_channel = 0;
+  std::uint32_t geojson_channel = 0;
+  for (const auto& c : adv["channels"]) {
+    if (c["topic"] == "/viz/map") map_channel = c["id"];
+    if (c["topic"] == "/map/geojson") geojson_channel = c["id"];
+  }
+  ASSERT_NE(map_channel, 0U);
+  ASSERT_NE(geojson_channel, 0U);
+  ws.text(true);
+  ws.write(asio::buffer(
+      json{{"op", "subscribe"},
+           {"subscriptions",
+            {{{"id", 3}, {"channelId", map_channel}}, {{"id", 4}, {"channelId", geojson_channel}}}}}
+          .dump()));
+  bool geojson_seen = false;
+  std::size_t longest_track = 0;
+  int maps = 0;
+  for (int frames = 0; frames < 50 && (maps < 3 || !geojson_seen); ++frames) {
+    auto [binary, frame] = next();
+    if (!binary) continue;
+    ASSERT_GT(frame.size(), 13U);
+    const auto m = json::parse(frame.substr(13));
+    if (frame[1] == 4) {
+      geojson_seen = m["geojson"].get<std::string>().find("hopping 1") != std::string::npos;
+      continue;
+    }
+    ASSERT_EQ(frame[1], 3);
+    ++maps;
+    EXPECT_EQ(m["entities"][0]["texts"][0]["text"], "hopping 1");
+    const auto& lines = m["entities"][1]["lines"];
+    if (!lines.empty()) longest_track = std::max(longest_track, lines[0]["points"].size());
+  }
+  EXPECT_TRUE(geojson_seen);
+  EXPECT_GE(maps, 3);            // at once, then every period
+  EXPECT_GE(longest_track, 2U);  // the boat moved: the track is a line
+}
+
+TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
+  start_tick();
+  asio::io_context ioc;
+  websocket::stream<tcp::socket> ws(ioc);
+  connect_foxglove(ws, server_->http_port());
 
   beast::flat_buffer buf;
   const auto next = [&]() {

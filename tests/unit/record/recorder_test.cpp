@@ -21,6 +21,7 @@
 #include "coxswain/record/mcap_reader.hpp"
 #include "coxswain/record/proto_codec.hpp"
 #include "coxswain/record/recorder.hpp"
+#include "coxswain/record/track_line.hpp"
 
 namespace coxswain::record {
 namespace {
@@ -153,8 +154,8 @@ TEST(Recorder, MapIsWrittenEveryPeriodWithTheWholeTrackThinned) {
   EXPECT_TRUE(maps[0]["entities"][1]["lines"].empty());  // one point: no line yet
   const auto& track = maps.back()["entities"][1]["lines"][0]["points"];
   // Bounded, yet from the start to about where the boat was at 35 s (1750 ticks).
-  EXPECT_LE(track.size(), Recorder::kMaxTrackPoints);
-  EXPECT_GE(track.size(), Recorder::kMaxTrackPoints / 4);
+  EXPECT_LE(track.size(), TrackLine::kMaxPoints);
+  EXPECT_GE(track.size(), TrackLine::kMaxPoints / 4);
   EXPECT_DOUBLE_EQ(track.front()["y"].get<double>(), 0.0);
   EXPECT_NEAR(track.back()["y"].get<double>(), 1.5 * 1750, 16.0);
   double last_y = -1.0;
