@@ -219,6 +219,22 @@ int run_main(int argc, char** argv) {
   replay->add_flag("--ignore-parameter-changes", replay_command.ignore_parameter_sets,
                    "Leave out the parameter sets applied live (/params): what the run would have "
                    "done without them");
+  bool dump_config = false;
+  std::string dump_dir;
+  replay->add_flag("--dump-config", dump_config,
+                   "Write the recorded boat, devices, mission (and vision) files into DIR instead "
+                   "of replaying (`coxswain replay --dump-config RUN.mcap DIR`): edit them, then "
+                   "replay with --config-dir DIR --mission DIR/mission.yaml");
+  replay->add_option("dir", dump_dir, "With --dump-config: the folder to write the files into");
+  replay->callback([&dump_config, &dump_dir] {
+    // A usage error like CLI11's own (exit 2 with the hint).
+    if (dump_config && dump_dir.empty()) {
+      throw CLI::ValidationError("--dump-config", "needs a folder: --dump-config RUN.mcap DIR");
+    }
+    if (!dump_config && !dump_dir.empty()) {
+      throw CLI::ValidationError("dir", "one recording (a folder only with --dump-config)");
+    }
+  });
   auto* info = app.add_subcommand(
       "info",
       "Summarise a recording: duration, channels with message counts, rates and drops, the "
@@ -389,6 +405,7 @@ int run_main(int argc, char** argv) {
                             0;
   if (replay->parsed()) {
     replay_command.recording = replay_file;
+    replay_command.dump_config_dir = dump_dir;
     replay_command.config_override = config_given ? &config : nullptr;
     return coxswain::replay::run_replay_command(replay_command, std::cout, std::cerr);
   }

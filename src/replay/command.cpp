@@ -2,6 +2,8 @@
 #include "coxswain/replay/command.hpp"
 
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "coxswain/replay/decode_replay.hpp"
 #include "coxswain/replay/replay.hpp"
@@ -24,6 +26,24 @@ int run_replay_command(const ReplayCommand& command, std::ostream& out, std::ost
   if (!recording.ok) {
     err << "replay: " << recording.error << "\n";
     return kUnreadable;
+  }
+  if (!command.dump_config_dir.empty()) {
+    if (recording.config_yaml.empty()) {
+      err << "replay --dump-config: the recording holds no configuration\n";
+      return kUnreadable;
+    }
+    std::vector<std::filesystem::path> written;
+    std::string error;
+    if (!dump_configuration(recording.config_yaml, command.dump_config_dir, written, error)) {
+      err << "replay --dump-config: " << error << "\n";
+      return kUnreadable;
+    }
+    for (const auto& p : written) out << "wrote " << p.string() << "\n";
+    const std::string dir = command.dump_config_dir.string();
+    out << "what-if: edit them, then\n  coxswain replay --config-dir " << dir << " --mission "
+        << (command.dump_config_dir / "mission.yaml").string() << " " << command.recording.string()
+        << "\n";
+    return 0;
   }
   std::optional<config::Configuration> recorded;
   if (command.config_override == nullptr) {

@@ -4,10 +4,14 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <span>
 #include <sstream>
 #include <stdexcept>
@@ -85,10 +89,96 @@ std::string command_field(std::size_t i) {
   return kNames[i];
 }
 
+/// What each actuator channel drives, for the reader of a difference.
+std::array<std::string, msg::ActuatorCommand::kChannels> channel_names(msg::ActuatorLayout l) {
+  if (l == msg::ActuatorLayout::kTwinThrusters) return {"port thruster", "starboard thruster"};
+  return {"servo", "thruster"};
+}
+
+/// The first value that differs between two JSON documents, depth first: its path and both
+/// values as text. nullopt when equal.
+struct JsonDifference {
+  std::string path;
+  std::string recorded;
+  std::string replayed;
+};
+std::optional<JsonDifference> first_difference(const nlohmann::json& a, const nlohmann::json& b,
+                                               const std::string& path) {
+  if (a.type() != b.type() && !(a.is_number() && b.is_number())) {
+    return JsonDifference{path, a.dump(), b.dump()};
+  }
+  if (a.is_object()) {
+    for (auto it = a.begin(); it != a.end(); ++it) {
+      const std::string at = path.empty() ? it.key() : path + "." + it.key();
+      if (!b.contains(it.key())) return JsonDifference{at, it.value().dump(), "(absent)"};
+      if (auto d = first_difference(it.value(), b.at(it.key()), at)) return d;
+    }
+    for (auto it = b.begin(); it != b.end(); ++it) {
+      if (!a.contains(it.key())) {
+        return JsonDifference{path.empty() ? it.key() : path + "." + it.key(), "(absent)",
+                              it.value().dump()};
+      }
+    }
+    return std::nullopt;
+  }
+  if (a.is_array()) {
+    const std::size_t n = std::min(a.size(), b.size());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (auto d = first_difference(a[i], b[i], path + "[" + std::to_string(i) + "]")) return d;
+    }
+    if (a.size() != b.size()) {
+      return JsonDifference{path + ".length", std::to_string(a.size()), std::to_string(b.size())};
+    }
+    return std::nullopt;
+  }
+  if (a != b) return JsonDifference{path, a.dump(), b.dump()};
+  return std::nullopt;
+}
+
+/// The listed visualization differences carry the replayed JSON until now: read the recorded
+/// messages at their log times and say which value differs.
+struct PendingViz {
+  std::uint64_t log_time_ns = 0;
+  std::string replayed_json;
+};
+
+void explain_viz_differences(const Recording& recording, std::vector<Difference>& differences,
+                             const std::map<std::size_t, PendingViz>& pending) {
+  if (pending.empty()) return;
+  std::map<std::pair<std::string, std::uint64_t>, std::string> recorded;  // (topic, log time)
+  std::set<std::pair<std::string, std::uint64_t>> wanted;
+  for (const auto& [index, p] : pending) {
+    wanted.insert({differences[index].field == "viz.scene" ? "/viz/scene" : "/tf", p.log_time_ns});
+  }
+  record::McapReader reader;
+  if (reader.open(recording.path)) {
+    (void)reader.read([&](const record::McapMessageView& m) {
+      const std::pair<std::string, std::uint64_t> key{reader.channels().at(m.channel_id).topic,
+                                                      m.log_time_ns};
+      if (wanted.contains(key)) recorded[key].assign(m.data.begin(), m.data.end());
+    });
+  }
+  // Left as hashes when the recorded text is gone or the values agree (other bytes differ).
+  for (const auto& [index, p] : pending) {
+    Difference& d = differences[index];
+    const auto it = recorded.find({d.field == "viz.scene" ? "/viz/scene" : "/tf", p.log_time_ns});
+    if (it == recorded.end()) continue;
+    const nlohmann::json was = nlohmann::json::parse(it->second, nullptr, false);
+    const nlohmann::json replayed = nlohmann::json::parse(p.replayed_json, nullptr, false);
+    if (was.is_discarded() || replayed.is_discarded()) continue;
+    if (const auto j = first_difference(was, replayed, "")) {
+      d.field += " " + j->path;
+      d.recorded = j->recorded;
+      d.replayed = j->replayed;
+    }
+  }
+}
+
 }  // namespace
 
 Recording load_recording(const fs::path& mcap) {
   Recording rec;
+  rec.path = mcap;
   record::McapReader reader;
   if (!reader.open(mcap)) {
     rec.error = "cannot read " + mcap.string();
@@ -157,8 +247,9 @@ Recording load_recording(const fs::path& mcap) {
   return rec;
 }
 
-std::optional<config::Configuration> configuration_from_yaml(const std::string& yaml,
-                                                             config::ConfigErrors& errors) {
+namespace {
+
+std::optional<YAML::Node> recorded_root(const std::string& yaml, config::ConfigErrors& errors) {
   YAML::Node root;
   try {
     root = YAML::Load(yaml);
@@ -170,6 +261,49 @@ std::optional<config::Configuration> configuration_from_yaml(const std::string& 
     errors.add({"<recorded config>", 0, "", "not a map"});
     return std::nullopt;
   }
+  return root;
+}
+
+}  // namespace
+
+bool dump_configuration(const std::string& yaml, const fs::path& dir,
+                        std::vector<fs::path>& written, std::string& error) {
+  config::ConfigErrors errors;
+  const std::optional<YAML::Node> root = recorded_root(yaml, errors);
+  if (!root) {
+    error = errors.format();
+    return false;
+  }
+  std::vector<const char*> sections{"boat", "devices", "mission"};
+  if ((*root)["vision"]) sections.push_back("vision");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    error = "cannot create " + dir.string() + ": " + ec.message();
+    return false;
+  }
+  for (const char* key : sections) {
+    if (const fs::path p = dir / (std::string(key) + ".yaml"); fs::exists(p)) {
+      error = p.string() + " exists; dump into an empty folder (nothing was written)";
+      return false;
+    }
+  }
+  for (const char* key : sections) {
+    const fs::path p = dir / (std::string(key) + ".yaml");
+    if (!write_section(*root, key, p, errors)) {
+      error = errors.empty() ? "cannot write " + p.string() : errors.format();
+      return false;
+    }
+    written.push_back(p);
+  }
+  return true;
+}
+
+std::optional<config::Configuration> configuration_from_yaml(const std::string& yaml,
+                                                             config::ConfigErrors& errors) {
+  const std::optional<YAML::Node> parsed = recorded_root(yaml, errors);
+  if (!parsed) return std::nullopt;
+  const YAML::Node& root = *parsed;
   TempFile boat("boat");
   TempFile devices("devices");
   TempFile mission("mission");
@@ -224,6 +358,10 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
   std::string recorded_path;
   std::string replayed_path;
   std::size_t next_set = 0;  // recording.parameter_sets[next_set] is the next to apply
+  const auto names = channel_names(config.boat.actuators.layout);
+  for (std::size_t c = 0; c < report.pulses.size(); ++c) report.pulses[c].name = names[c];
+  // Listed visualization differences still holding the replayed JSON: index -> log time.
+  std::map<std::size_t, PendingViz> viz_pending;
 
   for (const auto& bytes : recording.ticks) {
     if (!record::decode_tick(recording.encoding, bytes, *tick)) {
@@ -278,8 +416,20 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     };
     for (std::size_t i = 0; i < std::size(recorded_fields); ++i) {
       if (recorded_fields[i] != replayed_fields[i]) {
-        note(command_field(i), std::to_string(recorded_fields[i]),
+        std::string field = command_field(i);
+        if (i == 1 || i == 2) field = names[i - 1] + " pulse_us (" + field + ")";
+        note(std::move(field), std::to_string(recorded_fields[i]),
              std::to_string(replayed_fields[i]));
+      }
+    }
+    for (std::size_t c = 0; c < a.pulse_us.size(); ++c) {
+      if (a.pulse_us[c] == b.pulse_us[c]) continue;
+      PulseDivergence& p = report.pulses[c];
+      const auto by = static_cast<std::uint32_t>(std::abs(a.pulse_us[c] - b.pulse_us[c]));
+      if (p.ticks_different++ == 0 || by > p.largest_difference_us) {
+        p.largest_difference_us = by;
+        p.largest_at_tick = tick->tick_index;
+        p.largest_at_ns = tick->now_ns;
       }
     }
     const std::string_view path = out->status.state_path.view();
@@ -294,9 +444,13 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     if (scene != recording.viz_scene.end()) {
       ++report.viz_compared;
       host::fill_tick_viz(*out, config.boat, *viz);
-      const std::uint64_t replayed_scene = fnv1a(record::foxglove::scene_update_json(
-          viewer_ns, *viz, path.substr(0, record::kMaxStatePathBytes)));
+      const std::string replayed_json = record::foxglove::scene_update_json(
+          viewer_ns, *viz, path.substr(0, record::kMaxStatePathBytes));
+      const std::uint64_t replayed_scene = fnv1a(replayed_json);
       if (replayed_scene != scene->second) {
+        if (report.differences.size() < options.max_diffs) {
+          viz_pending[report.differences.size()] = {stamp, replayed_json};
+        }
         note("viz.scene", hex(scene->second), hex(replayed_scene));
       }
       const auto pose = recording.viz_pose.find(stamp);
@@ -305,9 +459,13 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
         note("viz.pose", recorded_pose ? "present" : "absent",
              viz->pose_valid ? "present" : "absent");
       } else if (recorded_pose) {
-        const std::uint64_t replayed_pose =
-            fnv1a(record::foxglove::frame_transform_json(viewer_ns, *viz));
-        if (replayed_pose != pose->second) note("viz.pose", hex(pose->second), hex(replayed_pose));
+        const std::string replayed_pose = record::foxglove::frame_transform_json(viewer_ns, *viz);
+        if (fnv1a(replayed_pose) != pose->second) {
+          if (report.differences.size() < options.max_diffs) {
+            viz_pending[report.differences.size()] = {stamp, replayed_pose};
+          }
+          note("viz.pose", hex(pose->second), hex(fnv1a(replayed_pose)));
+        }
       }
     }
     if (tick_differs) {
@@ -327,6 +485,7 @@ ReplayReport replay(const Recording& recording, const config::Configuration& con
     }
     if (on_tick) on_tick(*tick, *out);
   }
+  explain_viz_differences(recording, report.differences, viz_pending);
   return report;
 }
 
@@ -358,6 +517,11 @@ std::string format_replay_report(const ReplayReport& r, bool summary) {
                                : 100.0 * static_cast<double>(r.ticks_different) /
                                      static_cast<double>(r.ticks));
     o << line;
+    if (!r.differences.empty()) {
+      const Difference& d = r.differences.front();
+      o << "  first: " << d.field << " recorded " << d.recorded << " replayed " << d.replayed
+        << "\n";
+    }
     auto timeline = [&](const char* name, const std::vector<PathChange>& paths) {
       o << name << " state paths:\n";
       for (const PathChange& p : paths) {
@@ -369,6 +533,20 @@ std::string format_replay_report(const ReplayReport& r, bool summary) {
     };
     timeline("recorded", r.recorded_paths);
     timeline("replayed", r.replayed_paths);
+  }
+  if (r.first_divergence_tick) {
+    for (const PulseDivergence& p : r.pulses) {
+      if (p.ticks_different == 0) {
+        std::snprintf(line, sizeof line, "%s pulse: identical in every tick\n", p.name.c_str());
+      } else {
+        std::snprintf(line, sizeof line,
+                      "%s pulse: differs in %llu ticks, by up to %u us (tick %llu, t=%.3f s)\n",
+                      p.name.c_str(), static_cast<unsigned long long>(p.ticks_different),
+                      p.largest_difference_us, static_cast<unsigned long long>(p.largest_at_tick),
+                      static_cast<double>(p.largest_at_ns) / 1e9);
+      }
+      o << line;
+    }
   }
   if (r.parameter_sets_applied > 0) {
     o << r.parameter_sets_applied << " live parameter set"

@@ -18,6 +18,8 @@ struct ReplayCommand {
   std::size_t max_diffs = 20;
   bool decode = false;                 // re-run the device codecs on the raw bytes instead
   bool ignore_parameter_sets = false;  // leave out the live parameter changes (/params)
+  /// Not empty: write the recorded configuration files here instead of replaying.
+  std::filesystem::path dump_config_dir;
 };
 
 int run_replay_command(const ReplayCommand& command, std::ostream& out, std::ostream& err);

@@ -11,6 +11,7 @@
 // operator applied live (/params) are applied again before the tick they were first in force
 // at, so a recording with a live change replays bit for bit too. Pure apart from reading the
 // file. Thread-safety: none; one owner.
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -33,7 +34,8 @@ struct Recording {
   bool ok = false;  // the file was read (possibly truncated) and holds a /tick channel
   std::string error;
   record::McapReadReport file;
-  std::string config_yaml;  // Metadata "config"/"yaml", empty when absent
+  std::filesystem::path path;  // the file (read again for the text of a differing scene)
+  std::string config_yaml;     // Metadata "config"/"yaml", empty when absent
   /// How /tick, /lidar and /params are encoded (protobuf; the packed layouts before it).
   record::Encoding encoding = record::Encoding::kProtobuf;
   /// Log time minus the recorder's clock (metadata `log_time_offset_ns`; 0 in recordings whose
@@ -53,6 +55,12 @@ struct Recording {
 
 /// The Configuration of a recording's effective-configuration YAML (config::to_yaml), read back
 /// through the ordinary file loaders so every check applies. nullopt with `errors` on failure.
+/// Writes the recorded configuration as the files it came from: DIR/boat.yaml, devices.yaml,
+/// mission.yaml and (when recorded) vision.yaml, each loadable as given to `coxswain`. Creates
+/// DIR; refuses (false, `error`) to overwrite a file already there. `written` lists the files.
+bool dump_configuration(const std::string& yaml, const std::filesystem::path& dir,
+                        std::vector<std::filesystem::path>& written, std::string& error);
+
 [[nodiscard]] std::optional<config::Configuration> configuration_from_yaml(
     const std::string& yaml, config::ConfigErrors& errors);
 
@@ -60,9 +68,20 @@ struct Recording {
 struct Difference {
   std::uint64_t tick_index = 0;
   core::TimeNs now_ns = 0;
-  std::string field;  // e.g. "command.pulse_us[1]", "state_path", "viz.scene", "viz.pose"
+  /// e.g. "thruster pulse_us (command.pulse_us[1])", "state_path", or the first differing
+  /// value of the visualization: "viz.scene entities[0].arrows[0].pose.orientation.z".
+  std::string field;
   std::string recorded;
   std::string replayed;
+};
+
+/// How one actuator channel's commanded pulse diverged over the whole replay.
+struct PulseDivergence {
+  std::string name;  // "servo", "thruster", "port thruster", "starboard thruster"
+  std::uint64_t ticks_different = 0;
+  std::uint32_t largest_difference_us = 0;
+  std::uint64_t largest_at_tick = 0;
+  core::TimeNs largest_at_ns = 0;
 };
 
 /// A state path and the tick it was entered at.
@@ -97,6 +116,7 @@ struct ReplayReport {
   std::uint64_t parameter_sets_refused = 0;    // recorded sets the replayed core refused
   std::vector<std::uint64_t> parameter_ticks;  // the tick each applied set was first in force at
   std::vector<Difference> differences;         // the first max_diffs
+  std::array<PulseDivergence, msg::ActuatorCommand::kChannels> pulses{};
   std::optional<std::uint64_t> first_divergence_tick;
   core::TimeNs first_divergence_ns = 0;
   std::vector<PathChange> recorded_paths;  // state path timeline as recorded

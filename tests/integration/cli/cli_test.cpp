@@ -73,10 +73,11 @@ class Cli : public ::testing::Test {
 TEST_F(Cli, UsageErrorsExitTwoWithTheProblemAndAOneLineHint) {
   for (const auto& [is_sim, args] : std::vector<std::pair<bool, std::string>>{
            {false, "--no-such-option"},
-           {false, "replay"},                   // the recording is missing
-           {false, "run --target red"},         // COLOUR SHAPE is two words
-           {false, "decode --device sonar x"},  // not a codec
-           {false, "replay a.mcap b.mcap"},     // one recording
+           {false, "replay"},                       // the recording is missing
+           {false, "run --target red"},             // COLOUR SHAPE is two words
+           {false, "decode --device sonar x"},      // not a codec
+           {false, "replay a.mcap b.mcap"},         // one recording
+           {false, "replay --dump-config a.mcap"},  // the folder is missing
            {true, "--no-such-option"},
            {true, ""},                                    // a subcommand is required
            {true, "batch --kind submarine"},              // not a kind
@@ -142,6 +143,9 @@ TEST_F(Cli, EveryDocumentedCoxswainInvocationParses) {
       "replay --mission config/missions/hopping.yaml " + missing_mcap,
       "replay --config-dir config --boat config/boat.yaml " + missing_mcap,
       "replay --decode " + missing_mcap,
+      "replay --dump-config " + missing_mcap + " " + path("dump"),
+      "replay --config-dir " + path("dump") + " --mission " + path("dump/mission.yaml") + " " +
+          missing_mcap,
       "report " + missing_mcap + " -o " + path("report.html"),
       "report --mission hopping " + missing_mcap,
       "decode --device ublox " + path("gnss.raw"),

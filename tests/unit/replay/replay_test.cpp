@@ -11,7 +11,10 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <string>
+#include <vector>
 
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/replay/replay.hpp"
 #include "sim_recording.hpp"
 
@@ -78,7 +81,13 @@ TEST_F(ReplayTest, TamperedFieldsAreReportedWithTickAndField) {
   ASSERT_TRUE(r.ok);
   ASSERT_EQ(r.differences.size(), 3U) << format_replay_report(r, true);
   EXPECT_EQ(r.differences[0].tick_index, 400U);
-  EXPECT_EQ(r.differences[0].field, "command.pulse_us[1]");
+  // Named by what the channel drives (the hopping boat: a servo and a thruster).
+  EXPECT_EQ(r.differences[0].field, "thruster pulse_us (command.pulse_us[1])");
+  EXPECT_EQ(r.pulses[1].name, "thruster");
+  EXPECT_EQ(r.pulses[1].ticks_different, 1U);
+  EXPECT_EQ(r.pulses[1].largest_difference_us, 1U);
+  EXPECT_EQ(r.pulses[1].largest_at_tick, 400U);
+  EXPECT_EQ(r.pulses[0].ticks_different, 0U);
   EXPECT_EQ(r.differences[1].tick_index, 450U);
   EXPECT_EQ(r.differences[1].field, "state_path");
   EXPECT_EQ(r.differences[1].recorded, "hold/elsewhere");
@@ -89,6 +98,10 @@ TEST_F(ReplayTest, TamperedFieldsAreReportedWithTickAndField) {
   const std::string text = format_replay_report(r, true);
   EXPECT_NE(text.find("tick 400"), std::string::npos) << text;
   EXPECT_NE(text.find("3 of"), std::string::npos) << text;
+  EXPECT_NE(text.find("thruster pulse: differs in 1 ticks, by up to 1 us (tick 400"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("servo pulse: identical in every tick"), std::string::npos) << text;
 }
 
 TEST_F(ReplayTest, AlteredVisualizationIsReported) {
@@ -127,6 +140,68 @@ TEST_F(ReplayTest, MissingScanAndBrokenTickAreCounted) {
   EXPECT_GT(r.lidar_scans_missing, 0U);
   EXPECT_EQ(r.ticks_undecodable, 1U);
   EXPECT_NE(format_replay_report(r, false).find("warning"), std::string::npos);
+}
+
+TEST_F(ReplayTest, TheDumpedConfigurationReplaysWithZeroDifferences) {
+  const fs::path dump = dir_ / "dump";
+  std::vector<fs::path> written;
+  std::string error;
+  ASSERT_TRUE(dump_configuration(recording_->config_yaml, dump, written, error)) << error;
+  ASSERT_GE(written.size(), 3U);
+  for (const char* name : {"boat.yaml", "devices.yaml", "mission.yaml"}) {
+    EXPECT_TRUE(fs::exists(dump / name)) << name;
+  }
+  // The files as `coxswain replay --config-dir DUMP --mission DUMP/mission.yaml` loads them.
+  config::ConfigErrors errors;
+  config::Configuration c{config::load_boat_config((dump / "boat.yaml").string(), errors),
+                          config::load_devices_config((dump / "devices.yaml").string(), errors),
+                          config::load_mission_config((dump / "mission.yaml").string(), errors)};
+  if (fs::exists(dump / "vision.yaml")) {
+    if (auto v = config::load_vision_file((dump / "vision.yaml").string(), errors)) {
+      c.vision.params = *v;
+    }
+  }
+  ASSERT_TRUE(errors.empty()) << errors.format();
+  const ReplayReport r = replay(*recording_, c);
+  EXPECT_TRUE(r.identical()) << format_replay_report(r, true);
+  EXPECT_EQ(r.viz_compared, r.ticks);
+
+  // Nothing is overwritten: a second dump into the same folder is refused, the files kept.
+  const auto before = fs::last_write_time(dump / "mission.yaml");
+  written.clear();
+  EXPECT_FALSE(dump_configuration(recording_->config_yaml, dump, written, error));
+  EXPECT_NE(error.find("exists"), std::string::npos) << error;
+  EXPECT_TRUE(written.empty());
+  EXPECT_EQ(fs::last_write_time(dump / "mission.yaml"), before);
+  EXPECT_FALSE(dump_configuration("not: [yaml", dir_ / "dump2", written, error));
+}
+
+TEST_F(ReplayTest, AChangedMissionSaysWhichValueDiffersFirst) {
+  config::Configuration c = *config_;
+  c.mission.heading_pid.kp_per_deg *= 3.0;  // steers harder
+  c.boat.hull.length_m += 0.1;              // the hull drawn in the scene is longer
+  const ReplayReport r = replay(*recording_, c, {.max_diffs = 50});
+  ASSERT_FALSE(r.identical());
+  ASSERT_FALSE(r.differences.empty());
+  bool visualization_in_words = false;
+  for (const Difference& d : r.differences) {
+    // A value, never a hash: the field names the differing value of the scene.
+    if (d.field.starts_with("viz.scene ")) {
+      visualization_in_words = true;
+      EXPECT_FALSE(d.recorded.starts_with("fnv1a:")) << d.field;
+      EXPECT_FALSE(d.replayed.starts_with("fnv1a:")) << d.field;
+    }
+  }
+  EXPECT_TRUE(visualization_in_words) << format_replay_report(r, true);
+  const Difference& first = r.differences.front();
+  EXPECT_EQ(first.tick_index, 0U);  // the hull differs from the first tick on
+  EXPECT_EQ(first.field, "viz.scene entities[0].cubes[0].pose.position.x");
+  // A stronger gain steers harder: the servo's pulses differ; the summary says by how much.
+  EXPECT_GT(r.pulses[0].ticks_different, 0U);
+  EXPECT_GT(r.pulses[0].largest_difference_us, 0U);
+  const std::string text = format_replay_report(r, true);
+  EXPECT_NE(text.find("first: "), std::string::npos) << text;
+  EXPECT_NE(text.find("servo pulse: differs in"), std::string::npos) << text;
 }
 
 TEST_F(ReplayTest, RecordedConfigurationReadsBack) {
