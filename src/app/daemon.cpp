@@ -32,6 +32,7 @@
 #include "coxswain/core/clock.hpp"
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/drivers/camera/camera_driver.hpp"
+#include "coxswain/drivers/camera/viewer_images.hpp"
 #include "coxswain/drivers/ublox/rtcm_queue.hpp"
 #include "coxswain/drivers/ublox/rtcm_source.hpp"
 #include "coxswain/drivers/ublox/session.hpp"
@@ -329,11 +330,26 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
       },
       *store, clock, raw_sink);
   std::unique_ptr<drivers::camera::CameraDriver> camera;
+  // The newest frame and its detections, for the viewers' JPEG images.
+  auto latest_frame = std::make_unique<drivers::camera::LatestFrame>();
+  std::unique_ptr<drivers::camera::ViewerImages> viewer_images;
   if (config.devices.camera.enabled) {
+    const bool images =
+        config.devices.camera.image_rate_hz > 0.0 && (recorder != nullptr || live_server);
     // The detector tunables in force are the core's (live-tunable HSV boxes).
     camera = std::make_unique<drivers::camera::CameraDriver>(
         config.devices.camera, config.boat.mounts.camera, core->parameters().vision, store->camera,
-        store->health_of(msg::DeviceId::kCamera), clock);
+        store->health_of(msg::DeviceId::kCamera), clock, images ? latest_frame.get() : nullptr);
+    if (images) {
+      viewer_images = std::make_unique<drivers::camera::ViewerImages>(
+          config.devices.camera, *latest_frame,
+          [rec = recorder.get(), live = live_server.get()](
+              core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg,
+              const msg::CameraDetections& detections, double scale) {
+            if (rec != nullptr) (void)rec->record_image(stamp_ns, jpeg, detections, scale);
+            if (live != nullptr) live->publish_image(stamp_ns, jpeg, detections, scale);
+          });
+    }
   }
   // Devices with a driver publish their own health; the probe watches only the others.
   std::array<bool, msg::kDeviceCount> driven = serial_drivers.driven();
@@ -349,6 +365,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   ProbeThread probe_thread(probe, clock);
   serial_drivers.start();
   if (camera) camera->start();
+  if (viewer_images) viewer_images->start();
   if (rtcm_source) rtcm_source->start();
   bool finished_reported = false;
   std::string last_state_path;
@@ -441,6 +458,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
         std::chrono::nanoseconds(core::sec_to_ns(2.0 / config.boat.actuators.command_rate_hz)));
   }
   if (rtcm_source) rtcm_source->stop();
+  if (viewer_images) viewer_images->stop();  // before the recorder and the live view go
   if (camera) camera->stop();
   serial_drivers.stop();  // each returns within milliseconds, whatever its device does
   const core::TimeNs end_ns = clock.now_ns();

@@ -901,6 +901,14 @@ constexpr std::array kCamera{
     real_param<C, &C::brightness>("brightness", "", 0.0, kBig, kFixed, "V4L2 brightness"),
     int_param<C, &C::timeout_ms>("timeout_ms", "ms", 20, 60'000, kFixed,
                                  "no frame for this long = unhealthy"),
+    real_param<C, &C::image_rate_hz>(
+        "image_rate_hz", "Hz", 0.0, 30.0, kFixed,
+        "JPEG frames for the recording and the live view (/camera/image) at most this often; "
+        "0 = none"),
+    int_param<C, &C::image_max_width_px>("image_max_width_px", "px", 16, 8192, kFixed,
+                                         "those frames scaled down to at most this width"),
+    int_param<C, &C::image_jpeg_quality>("image_jpeg_quality", "", 1, 100, kFixed,
+                                         "their JPEG quality (higher: sharper, larger)"),
 };
 
 constexpr std::array kLiveServer{

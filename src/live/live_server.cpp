@@ -67,15 +67,20 @@ enum ChannelId : std::uint32_t {
   kLog = 5,
   kMap = 6,
   kGeoJson = 7,
+  kImage = 8,
+  kAnnotations = 9,
 };
 // The same topics as the recording's, so one Foxglove layout serves both.
-const std::array<ChannelInfo, 7> kChannels = {{{kTf, "/tf", fox::Schema::kFrameTransform},
-                                               {kScene, "/viz/scene", fox::Schema::kSceneUpdate},
-                                               {kScan, "/viz/scan", fox::Schema::kLaserScan},
-                                               {kFix, "/viz/fix", fox::Schema::kLocationFix},
-                                               {kLog, "/log", fox::Schema::kLog},
-                                               {kMap, "/viz/map", fox::Schema::kSceneUpdate},
-                                               {kGeoJson, "/map/geojson", fox::Schema::kGeoJson}}};
+const std::array<ChannelInfo, 9> kChannels = {
+    {{kTf, "/tf", fox::Schema::kFrameTransform},
+     {kScene, "/viz/scene", fox::Schema::kSceneUpdate},
+     {kScan, "/viz/scan", fox::Schema::kLaserScan},
+     {kFix, "/viz/fix", fox::Schema::kLocationFix},
+     {kLog, "/log", fox::Schema::kLog},
+     {kMap, "/viz/map", fox::Schema::kSceneUpdate},
+     {kGeoJson, "/map/geojson", fox::Schema::kGeoJson},
+     {kImage, "/camera/image", fox::Schema::kCompressedImage},
+     {kAnnotations, "/camera/annotations", fox::Schema::kImageAnnotations}}};
 
 std::string message_data(std::uint32_t subscription_id, core::TimeNs stamp_ns,
                          std::string_view payload) {
@@ -168,6 +173,18 @@ struct LiveServer::Impl {
   record::TrackLine track;
   core::TimeNs last_map_ns = 0;
   std::size_t map_subscriptions = 0;
+  // The newest camera image (camera image thread -> server thread).
+  struct Image {
+    std::uint64_t sequence = 0;
+    core::TimeNs stamp_ns = 0;
+    std::vector<std::uint8_t> jpeg;
+    msg::CameraDetections detections{};
+    double scale = 1.0;
+  };
+  std::mutex image_mutex;
+  Image image;       // guarded by image_mutex
+  Image image_copy;  // server thread
+  std::uint64_t sent_image_seq = 0;
   std::optional<mission::TunableParameters> pending;  // latest requested set
 
   // Bounded resources (server thread).
@@ -1037,6 +1054,30 @@ void LiveServer::Impl::on_viz_timer() {
       broadcast(kGeoJson, now, fox::geojson_json(options.map));
     }
     map_subscriptions = map_subs;
+    if (any_subscribed(kImage) || any_subscribed(kAnnotations)) {
+      {
+        const std::lock_guard<std::mutex> lock(image_mutex);
+        if (image.sequence != sent_image_seq) {
+          image_copy.sequence = image.sequence;
+          image_copy.stamp_ns = image.stamp_ns;
+          image_copy.jpeg.assign(image.jpeg.begin(), image.jpeg.end());
+          image_copy.detections = image.detections;
+          image_copy.scale = image.scale;
+        }
+      }
+      if (image_copy.sequence != sent_image_seq) {
+        sent_image_seq = image_copy.sequence;
+        if (any_subscribed(kImage)) {
+          broadcast(kImage, image_copy.stamp_ns,
+                    fox::compressed_image_json(image_copy.stamp_ns, image_copy.jpeg));
+        }
+        if (any_subscribed(kAnnotations)) {
+          broadcast(kAnnotations, image_copy.stamp_ns,
+                    fox::image_annotations_json(image_copy.stamp_ns, image_copy.detections,
+                                                image_copy.scale));
+        }
+      }
+    }
     if (store.lidar.sequence() != sent_scan_seq && any_subscribed(kScan)) {
       store.lidar.read(*scan);
       sent_scan_seq = scan->sequence;
@@ -1246,6 +1287,17 @@ void LiveServer::stop() {
 }
 
 std::uint16_t LiveServer::http_port() const { return impl_->port.load(); }
+
+void LiveServer::publish_image(core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg,
+                               const msg::CameraDetections& detections, double scale) {
+  const std::lock_guard<std::mutex> lock(impl_->image_mutex);
+  Impl::Image& i = impl_->image;
+  i.jpeg.assign(jpeg.begin(), jpeg.end());
+  i.stamp_ns = stamp_ns;
+  i.detections = detections;
+  i.scale = scale;
+  ++i.sequence;
+}
 
 void LiveServer::publish_tick(const LiveTick& tick, core::TimeNs now_ns) {
   impl_->tick_slot.publish(tick, now_ns);

@@ -111,6 +111,44 @@ json log_schema() {
        {"line", integer("source line", 0, 4294967295)}});
 }
 
+json point2_schema() { return object("foxglove.Point2", {{"x", num("x")}, {"y", num("y")}}); }
+
+json compressed_image_schema() {
+  json data = str("compressed image data");
+  data["contentEncoding"] = "base64";
+  return object("foxglove.CompressedImage", {{"timestamp", time_schema("capture time")},
+                                             {"frame_id", str("frame of the camera")},
+                                             {"data", data},
+                                             {"format", str("jpeg")}});
+}
+
+json image_annotations_schema() {
+  const json circle = object("foxglove.CircleAnnotation", {{"timestamp", time_schema("time")},
+                                                           {"position", point2_schema()},
+                                                           {"diameter", num("pixels")},
+                                                           {"thickness", num("pixels")},
+                                                           {"fill_color", color_schema()},
+                                                           {"outline_color", color_schema()}});
+  const json points = object(
+      "foxglove.PointsAnnotation",
+      {{"timestamp", time_schema("time")},
+       {"type", integer("0 unknown, 1 points, 2 line loop, 3 line strip, 4 line list", 0, 4)},
+       {"points", array_of(point2_schema(), "pixels")},
+       {"outline_color", color_schema()},
+       {"outline_colors", array_of(color_schema(), "per-point colours")},
+       {"fill_color", color_schema()},
+       {"thickness", num("pixels")}});
+  const json text = object("foxglove.TextAnnotation", {{"timestamp", time_schema("time")},
+                                                       {"position", point2_schema()},
+                                                       {"text", str("text")},
+                                                       {"font_size", num("pixels")},
+                                                       {"text_color", color_schema()},
+                                                       {"background_color", color_schema()}});
+  return object("foxglove.ImageAnnotations", {{"circles", array_of(circle, "circles")},
+                                              {"points", array_of(points, "points")},
+                                              {"texts", array_of(text, "texts")}});
+}
+
 json geojson_schema() {
   return object("foxglove.GeoJSON", {{"geojson", str("GeoJSON data encoded as a UTF-8 string")}});
 }
@@ -306,6 +344,10 @@ std::string_view schema_name(Schema schema) {
       return "foxglove.SceneUpdate";
     case Schema::kGeoJson:
       return "foxglove.GeoJSON";
+    case Schema::kCompressedImage:
+      return "foxglove.CompressedImage";
+    case Schema::kImageAnnotations:
+      return "foxglove.ImageAnnotations";
   }
   return "";
 }
@@ -330,6 +372,12 @@ std::string schema_json(Schema schema) {
       break;
     case Schema::kGeoJson:
       s = geojson_schema();
+      break;
+    case Schema::kCompressedImage:
+      s = compressed_image_schema();
+      break;
+    case Schema::kImageAnnotations:
+      s = image_annotations_schema();
       break;
   }
   s["$schema"] = "https://json-schema.org/draft/2020-12/schema";
@@ -570,6 +618,105 @@ std::string geojson_json(const MapGeometry& geometry) {
   const json collection = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
   const json j = {{"geojson", collection.dump(-1, ' ', false, json::error_handler_t::replace)}};
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string base64(std::span<const std::uint8_t> bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 3 <= bytes.size(); i += 3) {
+    const std::uint32_t v = (std::uint32_t{bytes[i]} << 16U) | (std::uint32_t{bytes[i + 1]} << 8U) |
+                            std::uint32_t{bytes[i + 2]};
+    out += kAlphabet[(v >> 18U) & 63U];
+    out += kAlphabet[(v >> 12U) & 63U];
+    out += kAlphabet[(v >> 6U) & 63U];
+    out += kAlphabet[v & 63U];
+  }
+  if (const std::size_t rest = bytes.size() - i; rest > 0) {
+    std::uint32_t v = std::uint32_t{bytes[i]} << 16U;
+    if (rest == 2) v |= std::uint32_t{bytes[i + 1]} << 8U;
+    out += kAlphabet[(v >> 18U) & 63U];
+    out += kAlphabet[(v >> 12U) & 63U];
+    out += rest == 2 ? kAlphabet[(v >> 6U) & 63U] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+std::string compressed_image_json(core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg) {
+  const json j = {{"timestamp", stamp(stamp_ns)},
+                  {"frame_id", kCameraFrame},
+                  {"data", base64(jpeg)},
+                  {"format", "jpeg"}};
+  return j.dump();
+}
+
+namespace {
+
+json target_colour(msg::Colour c) {
+  switch (c) {
+    case msg::Colour::kRed:
+      return color(1.0, 0.1, 0.1, 1.0);
+    case msg::Colour::kGreen:
+      return color(0.1, 0.9, 0.2, 1.0);
+    case msg::Colour::kBlue:
+      return color(0.2, 0.4, 1.0, 1.0);
+    case msg::Colour::kYellow:
+      return color(1.0, 0.9, 0.1, 1.0);
+    case msg::Colour::kOrange:
+      return color(1.0, 0.55, 0.0, 1.0);
+    case msg::Colour::kPurple:
+      return color(0.7, 0.2, 0.9, 1.0);
+    case msg::Colour::kBlack:
+      return color(0.1, 0.1, 0.1, 1.0);
+    case msg::Colour::kWhite:
+    case msg::Colour::kUnknown:
+      break;
+  }
+  return color(1.0, 1.0, 1.0, 1.0);
+}
+
+json pixel(double x, double y) { return {{"x", rounded(x, 10.0)}, {"y", rounded(y, 10.0)}}; }
+
+}  // namespace
+
+std::string image_annotations_json(core::TimeNs stamp_ns, const msg::CameraDetections& detections,
+                                   double scale) {
+  json boxes = json::array();
+  json labels = json::array();
+  const std::size_t n =
+      std::min<std::size_t>(detections.count, msg::CameraDetections::kMaxDetections);
+  for (std::size_t i = 0; i < n; ++i) {
+    const msg::Detection& d = detections.detections[i];
+    const double cx = static_cast<double>(d.center_x_px) * scale;
+    const double cy = static_cast<double>(d.center_y_px) * scale;
+    const double hw = 0.5 * static_cast<double>(d.width_px) * scale;
+    const double hh = 0.5 * static_cast<double>(d.height_px) * scale;
+    const json colour = target_colour(d.colour);
+    boxes.push_back({{"timestamp", stamp(stamp_ns)},
+                     {"type", 2},  // line loop
+                     {"points", json::array({pixel(cx - hw, cy - hh), pixel(cx + hw, cy - hh),
+                                             pixel(cx + hw, cy + hh), pixel(cx - hw, cy + hh)})},
+                     {"outline_color", colour},
+                     {"outline_colors", json::array()},
+                     {"fill_color", color(0.0, 0.0, 0.0, 0.0)},
+                     {"thickness", 2.0}});
+    char text[64];
+    (void)std::snprintf(
+        text, sizeof text, "%s %s %.2f", std::string(msg::colour_name(d.colour)).c_str(),
+        std::string(msg::shape_name(d.shape)).c_str(), static_cast<double>(d.score));
+    labels.push_back({{"timestamp", stamp(stamp_ns)},
+                      {"position", pixel(cx - hw, std::max(0.0, cy - hh - 4.0))},
+                      {"text", text},
+                      {"font_size", 14.0},
+                      {"text_color", colour},
+                      {"background_color", color(0.0, 0.0, 0.0, 0.6)}});
+  }
+  const json j = {
+      {"circles", json::array()}, {"points", std::move(boxes)}, {"texts", std::move(labels)}};
+  return j.dump();
 }
 
 }  // namespace coxswain::record::foxglove

@@ -64,6 +64,10 @@ std::string_view channel_topic(RecordChannel channel) {
       return "/viz/map";
     case RecordChannel::kMapGeoJson:
       return "/map/geojson";
+    case RecordChannel::kCameraImage:
+      return "/camera/image";
+    case RecordChannel::kCameraAnnotations:
+      return "/camera/annotations";
   }
   return "/unknown";
 }
@@ -113,6 +117,14 @@ struct Recorder::ParamsSlot {
   std::array<std::uint8_t, proto::kMaxParameterBytes> bytes{};
 };
 
+struct Recorder::ImageSlot {
+  core::TimeNs stamp_ns = 0;
+  std::uint32_t length = 0;
+  double scale = 1.0;
+  msg::CameraDetections detections{};
+  std::unique_ptr<std::uint8_t[]> bytes = std::make_unique<std::uint8_t[]>(kMaxImageBytes);
+};
+
 /// A decoded message sampled from the store, already encoded for its channel.
 struct SampleSlot {
   RecordChannel channel = RecordChannel::kGnss;
@@ -134,12 +146,14 @@ struct Recorder::Queues {
         tick(o.tick_queue_slots),
         log(o.log_queue_slots),
         params(o.params_queue_slots),
+        images(o.image_queue_slots),
         samples(o.sample_queue_slots),
         lidar_samples(o.lidar_queue_slots) {}
   std::array<SpscRing<RawSlot>, msg::kDeviceCount> raw;
   SpscRing<TickSlot> tick;
   SpscRing<LogSlot> log;
   SpscRing<ParamsSlot> params;   // producer: the tick thread
+  SpscRing<ImageSlot> images;    // producer: the camera image thread
   SpscRing<SampleSlot> samples;  // producer: the sampler thread
   SpscRing<LidarSampleSlot> lidar_samples;
   std::atomic<bool> log_accepting{false};
@@ -313,13 +327,16 @@ bool Recorder::start() {
           foxglove::kMessageEncoding);
   channel(RecordChannel::kVizPose, json_schema(foxglove::Schema::kFrameTransform),
           foxglove::kMessageEncoding);
-  channel(RecordChannel::kVizScene, json_schema(foxglove::Schema::kSceneUpdate),
-          foxglove::kMessageEncoding);
+  const std::uint16_t scene_schema = json_schema(foxglove::Schema::kSceneUpdate);
+  channel(RecordChannel::kVizScene, scene_schema, foxglove::kMessageEncoding);
   channel(RecordChannel::kLog, json_schema(foxglove::Schema::kLog), foxglove::kMessageEncoding);
   channel(RecordChannel::kParams, protobuf(Layout::kParameters), kProtobufEncoding);
-  channel(RecordChannel::kVizMap, json_schema(foxglove::Schema::kSceneUpdate),
-          foxglove::kMessageEncoding);
+  channel(RecordChannel::kVizMap, scene_schema, foxglove::kMessageEncoding);  // one schema
   channel(RecordChannel::kMapGeoJson, json_schema(foxglove::Schema::kGeoJson),
+          foxglove::kMessageEncoding);
+  channel(RecordChannel::kCameraImage, json_schema(foxglove::Schema::kCompressedImage),
+          foxglove::kMessageEncoding);
+  channel(RecordChannel::kCameraAnnotations, json_schema(foxglove::Schema::kImageAnnotations),
           foxglove::kMessageEncoding);
 
   const core::TimeNs now_ns = clock_.now_ns();
@@ -462,6 +479,26 @@ bool Recorder::record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns
   return true;
 }
 
+bool Recorder::record_image(core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg,
+                            const msg::CameraDetections& detections, double scale) noexcept {
+  if (!accepting_.load(std::memory_order_acquire) || jpeg.size() > kMaxImageBytes) {
+    count_drop(RecordChannel::kCameraImage);
+    return false;
+  }
+  ImageSlot* s = queues_->images.try_claim();
+  if (s == nullptr) {
+    count_drop(RecordChannel::kCameraImage);
+    return false;
+  }
+  if (!jpeg.empty()) std::memcpy(s->bytes.get(), jpeg.data(), jpeg.size());
+  s->length = static_cast<std::uint32_t>(jpeg.size());
+  s->stamp_ns = stamp_ns;
+  s->scale = scale;
+  s->detections = detections;
+  queues_->images.publish();
+  return true;
+}
+
 bool Recorder::record_log(core::TimeNs stamp_ns, int spdlog_level, std::string_view logger,
                           std::string_view text) noexcept {
   return queues_->push_log(stamp_ns, spdlog_level, logger, text);
@@ -562,6 +599,18 @@ bool Recorder::drain_once() {
       }
     }
     queues_->tick.pop();
+  }
+  for (int i = 0; i < kBatch; ++i) {
+    ImageSlot* s = queues_->images.front();
+    if (s == nullptr) break;
+    any = true;
+    const core::TimeNs t = st.utc(s->stamp_ns);
+    write(RecordChannel::kCameraImage, s->stamp_ns,
+          foxglove::compressed_image_json(
+              t, std::span<const std::uint8_t>(s->bytes.get(), s->length)));
+    write(RecordChannel::kCameraAnnotations, s->stamp_ns,
+          foxglove::image_annotations_json(t, s->detections, s->scale));
+    queues_->images.pop();
   }
   for (int i = 0; i < kBatch; ++i) {
     ParamsSlot* s = queues_->params.front();

@@ -80,6 +80,11 @@ struct CameraDeviceConfig {
   double contrast = 128.0;
   double brightness = 128.0;
   std::uint32_t timeout_ms = 1000;
+  /// Frames kept for the viewers (the recording's and the live view's /camera/image, JPEG):
+  /// at most this often, scaled down to at most this width, at this JPEG quality.
+  double image_rate_hz = 5.0;  // 0 = no images
+  std::uint32_t image_max_width_px = 640;
+  std::uint32_t image_jpeg_quality = 75;
 };
 
 /// The local control interface and live view (src/live): control socket, status page and the

@@ -7,13 +7,16 @@
 //  - an HTTP server (Boost.Beast) with the shore status page at GET /, GET /api/status and the
 //    token-protected POST /api/start|hold|resume|target;
 //  - on the same port, the Foxglove WebSocket protocol (subprotocol foxglove.websocket.v1):
-//    serverInfo, advertise of /tf, /viz/scene, /viz/scan, /viz/fix, /log (the recorder's JSON
-//    schemas), subscribe/unsubscribe, messageData at viz_rate_hz, and parameters.
+//    serverInfo, advertise of /tf, /viz/scene, /viz/scan, /viz/fix, /log, /viz/map,
+//    /map/geojson, /camera/image and /camera/annotations (the recorder's JSON schemas),
+//    subscribe/unsubscribe, messageData at viz_rate_hz, and parameters.
 // The tick thread never blocks on it: publish_tick() and publish_parameters() write lock-free
 // latest-value slots; take_parameters() reads one. Everything else runs on the server thread.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,6 +24,7 @@
 #include "coxswain/core/latest_store.hpp"
 #include "coxswain/live/control_protocol.hpp"
 #include "coxswain/mission/mission_core.hpp"
+#include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/msg/operator_input.hpp"
 #include "coxswain/record/map_geometry.hpp"
 #include "coxswain/record/tick_record.hpp"
@@ -96,6 +100,11 @@ class LiveServer {
   void publish_parameters(const mission::TunableParameters& in_force, core::TimeNs now_ns);
   /// Tick thread: a validated parameter set requested since the last call, if any. Lock-free.
   [[nodiscard]] bool take_parameters(mission::TunableParameters& out);
+  /// Camera image thread: the newest JPEG frame and its detections for /camera/image and
+  /// /camera/annotations (`scale` as Recorder::record_image). Copies under a short lock; the
+  /// server thread sends it at most viz_rate_hz to subscribers.
+  void publish_image(core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg,
+                     const msg::CameraDetections& detections, double scale);
 
  private:
   struct Impl;

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "coxswain/core/time.hpp"
+#include "coxswain/msg/camera_detections.hpp"
 #include "coxswain/msg/gnss_fix.hpp"
 #include "coxswain/msg/lidar_scan.hpp"
 #include "coxswain/record/map_geometry.hpp"
@@ -26,6 +27,8 @@ enum class Schema : std::uint8_t {
   kLog,
   kSceneUpdate,
   kGeoJson,
+  kCompressedImage,
+  kImageAnnotations,
 };
 
 inline constexpr std::string_view kSchemaEncoding = "jsonschema";
@@ -51,6 +54,21 @@ enum class LogLevel : std::uint8_t { kUnknown = 0, kDebug, kInfo, kWarning, kErr
 /// "boat"); the goal, leg, judged gate and planned path in the "map" frame (entity "route").
 [[nodiscard]] std::string scene_update_json(core::TimeNs stamp_ns, const TickViz& viz,
                                             std::string_view state_path);
+
+/// Frame of the camera images and their annotations.
+inline constexpr std::string_view kCameraFrame = "camera";
+
+/// A JPEG frame as foxglove.CompressedImage (the bytes base64, as JSON carries bytes).
+[[nodiscard]] std::string compressed_image_json(core::TimeNs stamp_ns,
+                                                std::span<const std::uint8_t> jpeg);
+/// The detections of a frame drawn on its image (foxglove.ImageAnnotations): a box in the
+/// target's colour and a label (colour, shape, score) per detection. `scale` maps the detector's
+/// pixels to the recorded image's (recorded width / detector width).
+[[nodiscard]] std::string image_annotations_json(core::TimeNs stamp_ns,
+                                                 const msg::CameraDetections& detections,
+                                                 double scale);
+/// RFC 4648 base64 (with padding).
+[[nodiscard]] std::string base64(std::span<const std::uint8_t> bytes);
 
 /// The mission's geometry and the track so far (navigation frame, oldest first) in the "map"
 /// frame: entities "mission" and "track".

@@ -52,24 +52,26 @@ enum class RecordChannel : std::uint8_t {
   kRawGnss,
   kRawArduino,
   kRawCamera,
-  kTick,        // /tick
-  kGnss,        // /gnss
-  kImu,         // /imu
-  kLidar,       // /lidar
-  kCamera,      // /camera
-  kArduino,     // /arduino
-  kOperator,    // /operator
-  kHealth,      // /health
-  kVizFix,      // /viz/fix     foxglove.LocationFix
-  kVizScan,     // /viz/scan    foxglove.LaserScan
-  kVizPose,     // /tf          foxglove.FrameTransform (map -> boat)
-  kVizScene,    // /viz/scene   foxglove.SceneUpdate
-  kLog,         // /log         foxglove.Log
-  kParams,      // /params      coxswain.ParameterSet (applied live parameter sets)
-  kVizMap,      // /viz/map     foxglove.SceneUpdate (mission geometry and track, "map" frame)
-  kMapGeoJson,  // /map/geojson foxglove.GeoJSON (mission geometry, Map panel)
+  kTick,         // /tick
+  kGnss,         // /gnss
+  kImu,          // /imu
+  kLidar,        // /lidar
+  kCamera,       // /camera
+  kArduino,      // /arduino
+  kOperator,     // /operator
+  kHealth,       // /health
+  kVizFix,       // /viz/fix     foxglove.LocationFix
+  kVizScan,      // /viz/scan    foxglove.LaserScan
+  kVizPose,      // /tf          foxglove.FrameTransform (map -> boat)
+  kVizScene,     // /viz/scene   foxglove.SceneUpdate
+  kLog,          // /log         foxglove.Log
+  kParams,       // /params      coxswain.ParameterSet (applied live parameter sets)
+  kVizMap,       // /viz/map     foxglove.SceneUpdate (mission geometry and track, "map" frame)
+  kMapGeoJson,   // /map/geojson foxglove.GeoJSON (mission geometry, Map panel)
+  kCameraImage,  // /camera/image        foxglove.CompressedImage (JPEG)
+  kCameraAnnotations,  // /camera/annotations  foxglove.ImageAnnotations (the detections)
 };
-inline constexpr std::size_t kRecordChannelCount = 21;
+inline constexpr std::size_t kRecordChannelCount = 23;
 
 [[nodiscard]] std::string_view channel_topic(RecordChannel channel);
 [[nodiscard]] RecordChannel raw_channel(msg::DeviceId device);
@@ -80,6 +82,7 @@ struct RecorderOptions {
   std::size_t tick_queue_slots = 256;
   std::size_t log_queue_slots = 512;
   std::size_t params_queue_slots = 8;              // applied parameter sets (16 KiB each)
+  std::size_t image_queue_slots = 4;               // camera images (kMaxImageBytes each)
   core::TimeNs chunk_period_ns = core::kNsPerSec;  // a crash loses at most about this much
   std::size_t chunk_size_bytes = 4U << 20U;
   int zstd_level = 3;
@@ -156,6 +159,13 @@ class Recorder final : public drivers::RawByteSink {
   /// not fit kMaxParameterBytes).
   bool record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns,
                          std::span<const NamedValue> values) noexcept;
+  /// Bytes of the largest camera image recorded (a 640 px JPEG is about 30-60 KiB).
+  static constexpr std::size_t kMaxImageBytes = std::size_t{512} << 10U;
+  /// Queues a JPEG frame for /camera/image and its detections for /camera/annotations (`scale`:
+  /// the image's width over the detector's, to place them). One producer thread. Bounded work
+  /// (one copy), no allocation. False when dropped (queue full, or larger than kMaxImageBytes).
+  bool record_image(core::TimeNs stamp_ns, std::span<const std::uint8_t> jpeg,
+                    const msg::CameraDetections& detections, double scale) noexcept;
   /// Queues a log line for /log. One producer at a time (log_sink() serializes its callers).
   bool record_log(core::TimeNs stamp_ns, int spdlog_level, std::string_view logger,
                   std::string_view text) noexcept;
@@ -176,6 +186,7 @@ class Recorder final : public drivers::RawByteSink {
   struct TickSlot;
   struct LogSlot;
   struct ParamsSlot;
+  struct ImageSlot;
   struct Queues;
   struct WriterState;
   struct SamplerState;

@@ -32,19 +32,23 @@ std::string describe(const SourceSpec& spec) {
 
 }  // namespace
 
-void LatestFrame::publish(const cv::Mat& bgr, core::TimeNs stamp_ns) {
+void LatestFrame::publish(const cv::Mat& bgr, core::TimeNs stamp_ns,
+                          const msg::CameraDetections* detections) {
   const std::lock_guard<std::mutex> lock(mutex_);
   bgr.copyTo(frame_);
   stamp_ns_ = stamp_ns;
+  detections_ = detections != nullptr ? *detections : msg::CameraDetections{};
   ++sequence_;
 }
 
-bool LatestFrame::read(cv::Mat& out, core::TimeNs& stamp_ns, std::uint64_t& sequence) const {
+bool LatestFrame::read(cv::Mat& out, core::TimeNs& stamp_ns, std::uint64_t& sequence,
+                       msg::CameraDetections* detections) const {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (sequence_ == 0) return false;
   frame_.copyTo(out);
   stamp_ns = stamp_ns_;
   sequence = sequence_;
+  if (detections != nullptr) *detections = detections_;
   return true;
 }
 
@@ -135,7 +139,7 @@ void CameraDriver::on_frame(const ReadResult& r) {
   }
   (void)pipeline_.process(frame_, r.stamp_ns, detections_);
   // The frame first: whoever sees detections N can also fetch frame N (or a newer one).
-  if (frame_out_ != nullptr) frame_out_->publish(frame_, r.stamp_ns);
+  if (frame_out_ != nullptr) frame_out_->publish(frame_, r.stamp_ns, &detections_);
   detections_out_.publish(detections_, r.stamp_ns);
 
   ++health_.frames_ok;

@@ -232,7 +232,7 @@ if (expected.layout) {
 // Every topic string a Foxglove layout holds: the keys of the per-topic settings of a 3D or Map
 // panel, the topic of an Image, Map or Log panel, and every message path ("/tick.command.x").
 function layoutStrings(layout) {
-  const topicKeyed = ["topics", "topicColors"];
+  const topicKeyed = ["topics", "topicColors", "annotations"];
   const topicValued = ["value", "path", "topic", "imageTopic", "topicPath", "topicToRender",
                        "followTopic"];
   const found = [];

@@ -71,6 +71,7 @@ if [ -z "$mcap" ]; then
   exit 1
 fi
 echo '{"must_have": ["/tick", "/lidar", "/imu", "/gnss", "/arduino", "/health", "/raw/lidar",
-  "/raw/imu", "/raw/gnss", "/raw/arduino", "/viz/scene", "/tf", "/log", "/viz/map", "/map/geojson"],
+  "/raw/imu", "/raw/gnss", "/raw/arduino", "/viz/scene", "/tf", "/log", "/viz/map", "/map/geojson",
+  "/camera/image", "/camera/annotations"],
   "layout": "'"$layout"'"}' >"$work/devices/expected.json"
 node "$work/node/read_mcap.mjs" "$mcap" "$work/devices/expected.json"

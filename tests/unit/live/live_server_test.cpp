@@ -339,6 +339,52 @@ TEST_F(LiveServerTest, TheMapIsSentAtOnceToANewSubscriberAndAgainWithTheTrack) {
   EXPECT_GE(longest_track, 2U);  // the boat moved: the track is a line
 }
 
+TEST_F(LiveServerTest, TheNewestCameraImageAndItsDetectionsGoToSubscribers) {
+  asio::io_context ioc;
+  websocket::stream<tcp::socket> ws(ioc);
+  connect_foxglove(ws, server_->http_port());
+  beast::flat_buffer buf;
+  const auto next = [&]() {
+    buf.clear();
+    ws.read(buf);
+    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
+  };
+  (void)next();  // serverInfo
+  const auto adv = json::parse(next().second);
+  std::uint32_t image_channel = 0;
+  std::uint32_t notes_channel = 0;
+  for (const auto& c : adv["channels"]) {
+    if (c["topic"] == "/camera/image") image_channel = c["id"];
+    if (c["topic"] == "/camera/annotations") notes_channel = c["id"];
+  }
+  ASSERT_NE(image_channel, 0U);
+  ASSERT_NE(notes_channel, 0U);
+  ws.text(true);
+  ws.write(asio::buffer(
+      json{{"op", "subscribe"},
+           {"subscriptions",
+            {{{"id", 5}, {"channelId", image_channel}}, {{"id", 6}, {"channelId", notes_channel}}}}}
+          .dump()));
+  const std::vector<std::uint8_t> jpeg{0xFF, 0xD8, 0xFF, 0xE0, 0x01, 0x02};
+  msg::CameraDetections d;
+  ASSERT_TRUE(d.push(
+      {msg::Colour::kYellow, msg::Shape::kCross, 0.0F, 10.0F, 10.0F, 4.0F, 4.0F, 16.0F, 0.7F}));
+  server_->publish_image(42, jpeg, d, 1.0);
+  json image;
+  json notes;
+  for (int frames = 0; frames < 20 && (image.is_null() || notes.is_null()); ++frames) {
+    auto [binary, frame] = next();
+    if (!binary) continue;
+    ASSERT_GT(frame.size(), 13U);
+    (frame[1] == 5 ? image : notes) = json::parse(frame.substr(13));
+  }
+  ASSERT_FALSE(image.is_null());
+  ASSERT_FALSE(notes.is_null());
+  EXPECT_EQ(image["format"], "jpeg");
+  EXPECT_EQ(image["data"], "/9j/4AEC");  // the six bytes, base64
+  EXPECT_EQ(notes["texts"][0]["text"], "yellow cross 0.70");
+}
+
 TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   start_tick();
   asio::io_context ioc;

@@ -8,6 +8,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <span>
+#include <string_view>
 #include <vector>
 
 #include "coxswain/record/foxglove.hpp"
@@ -75,6 +77,8 @@ TEST(Foxglove, SchemasAreObjectsWithFoxgloveFieldNames) {
       {Schema::kLog, {"timestamp", "level", "message", "name", "file", "line"}},
       {Schema::kSceneUpdate, {"deletions", "entities"}},
       {Schema::kGeoJson, {"geojson"}},
+      {Schema::kCompressedImage, {"timestamp", "frame_id", "data", "format"}},
+      {Schema::kImageAnnotations, {"circles", "points", "texts"}},
   };
   for (const auto& [s, fields] : expected) {
     const json j = schema(s);
@@ -268,6 +272,60 @@ TEST(Foxglove, GeoJsonPlacesTheMissionOnTheGlobe) {
   // Nothing at all: an empty collection, still valid.
   const json none = json::parse(json::parse(geojson_json({}))["geojson"].get<std::string>());
   EXPECT_TRUE(none["features"].empty());
+}
+
+TEST(Foxglove, Base64IsRfc4648) {
+  const auto b64 = [](std::string_view text) {
+    return base64(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(text.data()),
+                                                text.size()));
+  };
+  // The test vectors of RFC 4648, section 10.
+  EXPECT_EQ(b64(""), "");
+  EXPECT_EQ(b64("f"), "Zg==");
+  EXPECT_EQ(b64("fo"), "Zm8=");
+  EXPECT_EQ(b64("foo"), "Zm9v");
+  EXPECT_EQ(b64("foob"), "Zm9vYg==");
+  EXPECT_EQ(b64("fooba"), "Zm9vYmE=");
+  EXPECT_EQ(b64("foobar"), "Zm9vYmFy");
+  const std::vector<std::uint8_t> high{0xFF, 0xFE, 0xFD};
+  EXPECT_EQ(base64(high), "//79");
+}
+
+TEST(Foxglove, CameraImageAndItsDetections) {
+  const std::vector<std::uint8_t> jpeg{0xFF, 0xD8, 0xFF, 0xE0, 0x00};
+  const json image = json::parse(compressed_image_json(3'000'000'001, jpeg));
+  EXPECT_EQ(validate(schema(Schema::kCompressedImage), image), "");
+  EXPECT_EQ(image["format"], "jpeg");
+  EXPECT_EQ(image["frame_id"], "camera");
+  EXPECT_EQ(image["data"], base64(jpeg));
+  EXPECT_EQ(image["timestamp"]["sec"], 3);
+
+  msg::CameraDetections d;
+  d.image_width_px = 1280;
+  d.image_height_px = 960;
+  ASSERT_TRUE(d.push({msg::Colour::kRed, msg::Shape::kTriangle, 0.0F, 640.0F, 480.0F, 100.0F, 60.0F,
+                      3000.0F, 0.9F}));
+  ASSERT_TRUE(d.push(
+      {msg::Colour::kGreen, msg::Shape::kBuoy, 0.0F, 20.0F, 10.0F, 10.0F, 10.0F, 100.0F, 0.5F}));
+  // The recorded image is half the detector's width: boxes at half the pixels.
+  const json a = json::parse(image_annotations_json(3'000'000'001, d, 0.5));
+  EXPECT_EQ(validate(schema(Schema::kImageAnnotations), a), "");
+  ASSERT_EQ(a["points"].size(), 2U);
+  const json& box = a["points"][0];
+  EXPECT_EQ(box["type"], 2);  // a closed loop
+  ASSERT_EQ(box["points"].size(), 4U);
+  EXPECT_DOUBLE_EQ(box["points"][0]["x"].get<double>(), 295.0);  // (640 - 50) / 2
+  EXPECT_DOUBLE_EQ(box["points"][0]["y"].get<double>(), 225.0);  // (480 - 30) / 2
+  EXPECT_DOUBLE_EQ(box["points"][2]["x"].get<double>(), 345.0);
+  EXPECT_DOUBLE_EQ(box["outline_color"]["r"].get<double>(), 1.0);  // red
+  ASSERT_EQ(a["texts"].size(), 2U);
+  EXPECT_EQ(a["texts"][0]["text"], "red triangle 0.90");
+  EXPECT_EQ(a["texts"][1]["text"], "green buoy 0.50");
+  EXPECT_GE(a["texts"][1]["position"]["y"].get<double>(), 0.0);  // kept on the image
+  // No detections: empty lists, still valid.
+  const json none = json::parse(image_annotations_json(0, msg::CameraDetections{}, 1.0));
+  EXPECT_EQ(validate(schema(Schema::kImageAnnotations), none), "");
+  EXPECT_TRUE(none["points"].empty());
 }
 
 TEST(Foxglove, ValidatorRejectsWrongMessages) {

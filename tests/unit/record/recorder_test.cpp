@@ -169,6 +169,39 @@ TEST(Recorder, MapIsWrittenEveryPeriodWithTheWholeTrackThinned) {
   fs::remove(path);
 }
 
+TEST(Recorder, CameraImagesAreRecordedWithTheirDetectionsAndOversizedOnesCounted) {
+  const fs::path path = temp_path("images.mcap");
+  auto store = std::make_unique<core::LatestStore>();
+  core::SteadyClock clock;
+  Recorder rec(fast_options(path), store.get(), clock);
+  ASSERT_TRUE(rec.start()) << rec.stats().error;
+  const std::vector<std::uint8_t> jpeg = pattern(20'000, 7);
+  msg::CameraDetections d;
+  d.image_width_px = 640;
+  ASSERT_TRUE(d.push(
+      {msg::Colour::kBlue, msg::Shape::kCircle, 0.0F, 100.0F, 100.0F, 20.0F, 20.0F, 400.0F, 0.8F}));
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(wait_for([&] { return rec.record_image(1000 + i, jpeg, d, 1.0); }));
+  }
+  const std::vector<std::uint8_t> huge(Recorder::kMaxImageBytes + 1, 0);
+  EXPECT_FALSE(rec.record_image(2000, huge, d, 1.0));
+  rec.stop();
+  const RecorderStats st = rec.stats();
+  EXPECT_EQ(st[RecordChannel::kCameraImage].written, 3U);
+  EXPECT_EQ(st[RecordChannel::kCameraAnnotations].written, 3U);
+  EXPECT_GE(st[RecordChannel::kCameraImage].dropped, 1U);
+  const auto images = json_messages(path, "/camera/image");
+  ASSERT_EQ(images.size(), 3U);
+  EXPECT_EQ(images[0]["format"], "jpeg");
+  // Every byte, base64: 20000 bytes are 26668 characters with padding.
+  EXPECT_EQ(images[0]["data"].get<std::string>().size(), 26668U);
+  const auto notes = json_messages(path, "/camera/annotations");
+  ASSERT_EQ(notes.size(), 3U);
+  EXPECT_EQ(notes[0]["texts"][0]["text"], "blue circle 0.80");
+  EXPECT_EQ(notes[0]["points"][0]["timestamp"], images[0]["timestamp"]);  // one time for both
+  fs::remove(path);
+}
+
 TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   const fs::path path = temp_path("all.mcap");
   auto store = std::make_unique<core::LatestStore>();

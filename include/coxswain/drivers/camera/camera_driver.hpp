@@ -39,11 +39,15 @@ namespace coxswain::drivers::camera {
 /// into the other's image and the camera thread is never blocked for longer than one copy.
 class LatestFrame {
  public:
-  /// Copies `bgr` in (the buffer is reused while the size stays the same).
-  void publish(const cv::Mat& bgr, core::TimeNs stamp_ns);
+  /// Copies `bgr` in (the buffer is reused while the size stays the same), with what the
+  /// detectors found in it (none when null), so a viewer draws them on this very frame.
+  void publish(const cv::Mat& bgr, core::TimeNs stamp_ns,
+               const msg::CameraDetections* detections = nullptr);
   /// Copies the newest frame into `out` (reusing its buffer). False when nothing was published;
-  /// `stamp_ns` and `sequence` (1 for the first frame) describe the copied frame.
-  bool read(cv::Mat& out, core::TimeNs& stamp_ns, std::uint64_t& sequence) const;
+  /// `stamp_ns` and `sequence` (1 for the first frame) describe the copied frame, `detections`
+  /// (when not null) receives its detections.
+  bool read(cv::Mat& out, core::TimeNs& stamp_ns, std::uint64_t& sequence,
+            msg::CameraDetections* detections = nullptr) const;
   /// Frames published so far; cheap, for polling "is there a new one?".
   [[nodiscard]] std::uint64_t sequence() const;
 
@@ -52,6 +56,7 @@ class LatestFrame {
   cv::Mat frame_;
   core::TimeNs stamp_ns_ = core::kNeverNs;
   std::uint64_t sequence_ = 0;
+  msg::CameraDetections detections_{};
 };
 
 /// Runs the camera. Counters in DeviceHealth: frames_ok = frames processed, bytes_received =
