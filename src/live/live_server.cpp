@@ -173,6 +173,9 @@ struct LiveServer::Impl {
   record::TrackLine track;
   core::TimeNs last_map_ns = 0;
   std::size_t map_subscriptions = 0;
+  // UTC minus the injected clock, taken at start: the viewers' stamps are wall-clock times (as
+  // in the recording), so Foxglove's timeline shows when the boat sails, not 1970.
+  core::TimeNs utc_offset_ns = 0;
   // The newest camera image (camera image thread -> server thread).
   struct Image {
     std::uint64_t sequence = 0;
@@ -992,8 +995,9 @@ void LiveServer::Impl::emit_log(fox::LogLevel level, const std::string& text) {
     if (!client || !client->open()) continue;
     client->subscriptions_of(kLog, subs);
     if (subs.empty()) continue;
-    if (payload.empty()) payload = fox::log_json(now, level, "coxswain.live", text);
-    for (std::uint32_t sub : subs) client->send(message_data(sub, now, payload), true);
+    const core::TimeNs utc = now + utc_offset_ns;
+    if (payload.empty()) payload = fox::log_json(utc, level, "coxswain.live", text);
+    for (std::uint32_t sub : subs) client->send(message_data(sub, utc, payload), true);
   }
 }
 
@@ -1027,12 +1031,11 @@ void LiveServer::Impl::on_viz_timer() {
     const core::Sample<LiveTick> t = tick_slot.read();
     sent_tick_seq = t.sequence;
     if (t.value.viz.pose_valid) track.add({t.value.viz.north_m, t.value.viz.east_m});
-    if (any_subscribed(kTf))
-      broadcast(kTf, t.stamp_ns, fox::frame_transform_json(t.stamp_ns, t.value.viz));
+    const core::TimeNs utc = t.stamp_ns + utc_offset_ns;
+    if (any_subscribed(kTf)) broadcast(kTf, utc, fox::frame_transform_json(utc, t.value.viz));
     if (any_subscribed(kScene)) {
-      broadcast(kScene, t.stamp_ns,
-                fox::scene_update_json(t.stamp_ns, t.value.viz,
-                                       t.value.summary.status.state_path.view()));
+      broadcast(kScene, utc,
+                fox::scene_update_json(utc, t.value.viz, t.value.summary.status.state_path.view()));
     }
   }
   if (!clients.empty()) {
@@ -1050,8 +1053,9 @@ void LiveServer::Impl::on_viz_timer() {
     if (map_subs > 0 &&
         (map_subs > map_subscriptions || now - last_map_ns >= options.map_period_ns)) {
       last_map_ns = now;
-      broadcast(kMap, now, fox::map_scene_json(now, options.map, track.points()));
-      broadcast(kGeoJson, now, fox::geojson_json(options.map));
+      const core::TimeNs utc = now + utc_offset_ns;
+      broadcast(kMap, utc, fox::map_scene_json(utc, options.map, track.points()));
+      broadcast(kGeoJson, utc, fox::geojson_json(options.map));
     }
     map_subscriptions = map_subs;
     if (any_subscribed(kImage) || any_subscribed(kAnnotations)) {
@@ -1067,26 +1071,27 @@ void LiveServer::Impl::on_viz_timer() {
       }
       if (image_copy.sequence != sent_image_seq) {
         sent_image_seq = image_copy.sequence;
+        const core::TimeNs utc = image_copy.stamp_ns + utc_offset_ns;
         if (any_subscribed(kImage)) {
-          broadcast(kImage, image_copy.stamp_ns,
-                    fox::compressed_image_json(image_copy.stamp_ns, image_copy.jpeg));
+          broadcast(kImage, utc, fox::compressed_image_json(utc, image_copy.jpeg));
         }
         if (any_subscribed(kAnnotations)) {
-          broadcast(kAnnotations, image_copy.stamp_ns,
-                    fox::image_annotations_json(image_copy.stamp_ns, image_copy.detections,
-                                                image_copy.scale));
+          broadcast(kAnnotations, utc,
+                    fox::image_annotations_json(utc, image_copy.detections, image_copy.scale));
         }
       }
     }
     if (store.lidar.sequence() != sent_scan_seq && any_subscribed(kScan)) {
       store.lidar.read(*scan);
       sent_scan_seq = scan->sequence;
-      broadcast(kScan, scan->stamp_ns, fox::laser_scan_json(scan->value));
+      scan->value.stamp_ns += utc_offset_ns;  // our copy
+      broadcast(kScan, scan->stamp_ns + utc_offset_ns, fox::laser_scan_json(scan->value));
     }
     if (store.gnss.sequence() != sent_fix_seq && any_subscribed(kFix)) {
-      const core::Sample<msg::GnssFix> fix = store.gnss.read();
+      core::Sample<msg::GnssFix> fix = store.gnss.read();
       sent_fix_seq = fix.sequence;
-      broadcast(kFix, fix.stamp_ns, fox::location_fix_json(fix.value));
+      fix.value.stamp_ns += utc_offset_ns;
+      broadcast(kFix, fix.stamp_ns + utc_offset_ns, fox::location_fix_json(fix.value));
     }
   }
   arm_viz_timer();
@@ -1195,6 +1200,10 @@ bool LiveServer::start(std::string& error) {
     error = "viz_rate_hz must be > 0";
     return false;
   }
+  m.utc_offset_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::system_clock::now().time_since_epoch())
+                        .count() -
+                    m.clock.now_ns();
   boost::system::error_code ec;
   if (!m.options.socket_path.empty()) {
     std::error_code fec;

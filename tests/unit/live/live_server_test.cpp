@@ -420,6 +420,17 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   EXPECT_EQ(static_cast<unsigned char>(frame[1]), 7U);  // subscription id, little-endian
   const auto tf = json::parse(frame.substr(13));
   EXPECT_EQ(tf["parent_frame_id"], "map");
+  // Stamps are wall-clock (UTC) times, in the message and in its messageData header.
+  const auto utc_now_s = std::chrono::duration_cast<std::chrono::seconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+  EXPECT_NEAR(tf["timestamp"]["sec"].get<double>(), static_cast<double>(utc_now_s), 60.0);
+  std::uint64_t header_ns = 0;
+  for (int i = 7; i >= 0; --i) {
+    header_ns =
+        (header_ns << 8U) | static_cast<unsigned char>(frame[5 + static_cast<std::size_t>(i)]);
+  }
+  EXPECT_NEAR(static_cast<double>(header_ns) / 1e9, static_cast<double>(utc_now_s), 60.0);
   EXPECT_DOUBLE_EQ(tf["translation"]["x"].get<double>(), 2.0);  // east
 
   ws.write(asio::buffer(json{{"op", "unsubscribe"}, {"subscriptionIds", {7}}}.dump()));
