@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -18,7 +19,7 @@ double encode_viewer_jpeg(const cv::Mat& bgr, std::uint32_t max_width_px,
   cv::Mat scaled;
   if (static_cast<std::uint32_t>(bgr.cols) > max_width_px) {
     scale = static_cast<double>(max_width_px) / static_cast<double>(bgr.cols);
-    const int height = std::max(1, static_cast<int>(bgr.rows * scale + 0.5));
+    const int height = std::max(1, static_cast<int>(std::lround(bgr.rows * scale)));
     cv::resize(bgr, scaled, cv::Size(static_cast<int>(max_width_px), height), 0.0, 0.0,
                cv::INTER_AREA);
     image = &scaled;
