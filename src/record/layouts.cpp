@@ -22,7 +22,6 @@ using detail::ListInfo;
 // and in FORMAT.md) the layout, so the three cannot drift apart. A field added to a message later
 // is listed with `io.since(version, ...)`: older messages read it as the struct's default.
 
-
 template <class T>
 void write_value(ByteWriter& w, const T& v) {
   if constexpr (IsStdArray<T>::value) {

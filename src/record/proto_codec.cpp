@@ -175,7 +175,6 @@ enum ProtoType : std::uint8_t {
   kTypeSint64 = 18,
 };
 
-
 // How each C++ field type travels: unsigned integers and enums as varints, signed integers
 // zig-zagged (small negatives stay short), floating point as fixed 32/64 bits.
 template <class T>
