@@ -159,7 +159,7 @@ class Recorder final : public drivers::RawByteSink {
   /// not fit kMaxParameterBytes).
   bool record_parameters(std::uint64_t tick_index, core::TimeNs stamp_ns,
                          std::span<const NamedValue> values) noexcept;
-  /// Bytes of the largest camera image recorded (a 640 px JPEG is about 30-60 KiB).
+  /// Bytes of the largest camera image recorded (a 640 px JPEG of a photo is tens of KiB).
   static constexpr std::size_t kMaxImageBytes = std::size_t{512} << 10U;
   /// Queues a JPEG frame for /camera/image and its detections for /camera/annotations (`scale`:
   /// the image's width over the detector's, to place them). One producer thread. Bounded work
