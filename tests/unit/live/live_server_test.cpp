@@ -37,6 +37,41 @@ namespace fs = std::filesystem;
 
 constexpr const char* kToken = "correct-horse";
 
+/// A Foxglove WebSocket client of the test server, connected: the serverInfo and advertise
+/// messages read and kept.
+class FoxgloveClient {
+ public:
+  FoxgloveClient(std::unique_ptr<asio::io_context> ioc,
+                 std::unique_ptr<websocket::stream<tcp::socket>> ws)
+      : ioc_(std::move(ioc)), ws_(std::move(ws)) {
+    info = json::parse(next().second);
+    advertise = json::parse(next().second);
+    ws_->text(true);
+  }
+  /// The next message: whether it is binary, and its bytes.
+  std::pair<bool, std::string> next() {
+    buf_.clear();
+    ws_->read(buf_);
+    return {ws_->got_binary(), beast::buffers_to_string(buf_.data())};
+  }
+  void send(const json& message) { ws_->write(asio::buffer(message.dump())); }
+  void close() { ws_->close(websocket::close_code::normal); }
+  /// The advertised channel of `topic`, 0 when none.
+  [[nodiscard]] std::uint32_t channel(std::string_view topic) const {
+    for (const auto& c : advertise["channels"]) {
+      if (c["topic"] == topic) return c["id"].get<std::uint32_t>();
+    }
+    return 0;
+  }
+  json info;
+  json advertise;
+
+ private:
+  std::unique_ptr<asio::io_context> ioc_;
+  std::unique_ptr<websocket::stream<tcp::socket>> ws_;
+  beast::flat_buffer buf_;
+};
+
 class LiveServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -131,10 +166,9 @@ class LiveServerTest : public ::testing::Test {
   }
 
   // A Foxglove client; `origin` empty: none sent (not a browser).
-  std::unique_ptr<websocket::stream<tcp::socket>> connect_ws(asio::io_context& ioc,
-                                                             const std::string& target,
-                                                             const std::string& origin,
-                                                             boost::system::error_code& ec) {
+  std::unique_ptr<websocket::stream<tcp::socket>> connect_ws(
+      asio::io_context& ioc, const std::string& target, const std::string& origin,
+      boost::system::error_code& ec, websocket::response_type* response = nullptr) {
     auto ws = std::make_unique<websocket::stream<tcp::socket>>(ioc);
     ws->next_layer().connect(
         tcp::endpoint(asio::ip::make_address("127.0.0.1"), server_->http_port()));
@@ -142,8 +176,23 @@ class LiveServerTest : public ::testing::Test {
       req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
       if (!origin.empty()) req.set(http::field::origin, origin);
     }));
-    ws->handshake("127.0.0.1:" + std::to_string(server_->http_port()), target, ec);
+    const std::string host = "127.0.0.1:" + std::to_string(server_->http_port());
+    if (response != nullptr) {
+      ws->handshake(*response, host, target, ec);
+    } else {
+      ws->handshake(host, target, ec);
+    }
     return ws;
+  }
+  // A Foxglove client with the token, past serverInfo and advertise.
+  std::unique_ptr<FoxgloveClient> foxglove_client() {
+    auto ioc = std::make_unique<asio::io_context>();
+    boost::system::error_code ec;
+    websocket::response_type handshake;
+    auto ws = connect_ws(*ioc, std::string("/?token=") + kToken, "", ec, &handshake);
+    EXPECT_FALSE(ec) << ec.message();
+    EXPECT_EQ(handshake[http::field::sec_websocket_protocol], "foxglove.websocket.v1");
+    return std::make_unique<FoxgloveClient>(std::move(ioc), std::move(ws));
   }
   // The next text message (skipping visualization frames).
   static json next_text(websocket::stream<tcp::socket>& ws) {
@@ -274,53 +323,26 @@ TEST_F(LiveServerTest, StatusPageAndTokenProtectedButtons) {
   EXPECT_EQ(request(http::verb::get, "/nowhere").result(), http::status::not_found);
 }
 
-/// A Foxglove WebSocket client's handshake with the test server.
-void connect_foxglove(websocket::stream<tcp::socket>& ws, std::uint16_t port) {
-  ws.next_layer().connect(tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-  ws.set_option(websocket::stream_base::decorator([](websocket::request_type& req) {
-    req.set(http::field::sec_websocket_protocol, "foxglove.websocket.v1");
-  }));
-  websocket::response_type handshake;
-  ws.handshake(handshake, "127.0.0.1", std::string("/?token=") + kToken);
-  EXPECT_EQ(handshake[http::field::sec_websocket_protocol], "foxglove.websocket.v1");
-}
-
 TEST_F(LiveServerTest, TheMapIsSentAtOnceToANewSubscriberAndAgainWithTheTrack) {
   LiveOptions o = options();
   o.map.marks.push_back({record::MapMark::Kind::kWaypoint, "hopping 1", {35.1, 129.0, {9.0, 1.0}}});
   o.map_period_ns = 100 * core::kNsPerMs;
   restart(o);
   start_tick();
-  asio::io_context ioc;
-  websocket::stream<tcp::socket> ws(ioc);
-  connect_foxglove(ws, server_->http_port());
-  beast::flat_buffer buf;
-  const auto next = [&]() {
-    buf.clear();
-    ws.read(buf);
-    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
-  };
-  (void)next();  // serverInfo
-  const auto adv = json::parse(next().second);
-  std::uint32_t map_channel = 0;
-  std::uint32_t geojson_channel = 0;
-  for (const auto& c : adv["channels"]) {
-    if (c["topic"] == "/viz/map") map_channel = c["id"];
-    if (c["topic"] == "/map/geojson") geojson_channel = c["id"];
-  }
+  const auto client = foxglove_client();
+  const std::uint32_t map_channel = client->channel("/viz/map");
+  const std::uint32_t geojson_channel = client->channel("/map/geojson");
   ASSERT_NE(map_channel, 0U);
   ASSERT_NE(geojson_channel, 0U);
-  ws.text(true);
-  ws.write(asio::buffer(
-      json{{"op", "subscribe"},
-           {"subscriptions",
-            {{{"id", 3}, {"channelId", map_channel}}, {{"id", 4}, {"channelId", geojson_channel}}}}}
-          .dump()));
+  client->send(json{
+      {"op", "subscribe"},
+      {"subscriptions",
+       {{{"id", 3}, {"channelId", map_channel}}, {{"id", 4}, {"channelId", geojson_channel}}}}});
   bool geojson_seen = false;
   std::size_t longest_track = 0;
   int maps = 0;
   for (int frames = 0; frames < 50 && (maps < 3 || !geojson_seen); ++frames) {
-    auto [binary, frame] = next();
+    auto [binary, frame] = client->next();
     if (!binary) continue;
     ASSERT_GT(frame.size(), 13U);
     const auto m = json::parse(frame.substr(13));
@@ -340,31 +362,15 @@ TEST_F(LiveServerTest, TheMapIsSentAtOnceToANewSubscriberAndAgainWithTheTrack) {
 }
 
 TEST_F(LiveServerTest, TheNewestCameraImageAndItsDetectionsGoToSubscribers) {
-  asio::io_context ioc;
-  websocket::stream<tcp::socket> ws(ioc);
-  connect_foxglove(ws, server_->http_port());
-  beast::flat_buffer buf;
-  const auto next = [&]() {
-    buf.clear();
-    ws.read(buf);
-    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
-  };
-  (void)next();  // serverInfo
-  const auto adv = json::parse(next().second);
-  std::uint32_t image_channel = 0;
-  std::uint32_t notes_channel = 0;
-  for (const auto& c : adv["channels"]) {
-    if (c["topic"] == "/camera/image") image_channel = c["id"];
-    if (c["topic"] == "/camera/annotations") notes_channel = c["id"];
-  }
+  const auto client = foxglove_client();
+  const std::uint32_t image_channel = client->channel("/camera/image");
+  const std::uint32_t notes_channel = client->channel("/camera/annotations");
   ASSERT_NE(image_channel, 0U);
   ASSERT_NE(notes_channel, 0U);
-  ws.text(true);
-  ws.write(asio::buffer(
-      json{{"op", "subscribe"},
-           {"subscriptions",
-            {{{"id", 5}, {"channelId", image_channel}}, {{"id", 6}, {"channelId", notes_channel}}}}}
-          .dump()));
+  client->send(json{
+      {"op", "subscribe"},
+      {"subscriptions",
+       {{{"id", 5}, {"channelId", image_channel}}, {{"id", 6}, {"channelId", notes_channel}}}}});
   const std::vector<std::uint8_t> jpeg{0xFF, 0xD8, 0xFF, 0xE0, 0x01, 0x02};
   msg::CameraDetections d;
   ASSERT_TRUE(d.push(
@@ -373,7 +379,7 @@ TEST_F(LiveServerTest, TheNewestCameraImageAndItsDetectionsGoToSubscribers) {
   json image;
   json notes;
   for (int frames = 0; frames < 20 && (image.is_null() || notes.is_null()); ++frames) {
-    auto [binary, frame] = next();
+    auto [binary, frame] = client->next();
     if (!binary) continue;
     ASSERT_GT(frame.size(), 13U);
     (frame[1] == 5 ? image : notes) = json::parse(frame.substr(13));
@@ -387,20 +393,12 @@ TEST_F(LiveServerTest, TheNewestCameraImageAndItsDetectionsGoToSubscribers) {
 
 TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   start_tick();
-  asio::io_context ioc;
-  websocket::stream<tcp::socket> ws(ioc);
-  connect_foxglove(ws, server_->http_port());
-
-  beast::flat_buffer buf;
-  const auto next = [&]() {
-    buf.clear();
-    ws.read(buf);
-    return std::make_pair(ws.got_binary(), beast::buffers_to_string(buf.data()));
-  };
-  const auto info = json::parse(next().second);
+  const auto client = foxglove_client();
+  const auto next = [&client] { return client->next(); };
+  const json& info = client->info;
   EXPECT_EQ(info["op"], "serverInfo");
   EXPECT_EQ(info["capabilities"], json::array({"parameters"}));
-  const auto adv = json::parse(next().second);
+  const json& adv = client->advertise;
   ASSERT_EQ(adv["op"], "advertise");
   std::uint32_t tf_channel = 0;
   for (const auto& c : adv["channels"]) {
@@ -409,10 +407,8 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
     if (c["topic"] == "/tf") tf_channel = c["id"];
   }
   ASSERT_NE(tf_channel, 0U);
-  ws.text(true);
-  ws.write(asio::buffer(
-      json{{"op", "subscribe"}, {"subscriptions", {{{"id", 7}, {"channelId", tf_channel}}}}}
-          .dump()));
+  client->send(
+      json{{"op", "subscribe"}, {"subscriptions", {{{"id", 7}, {"channelId", tf_channel}}}}});
   auto [binary, frame] = next();
   ASSERT_TRUE(binary);
   ASSERT_GT(frame.size(), 13U);
@@ -433,12 +429,10 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   EXPECT_NEAR(static_cast<double>(header_ns) / 1e9, static_cast<double>(utc_now_s), 60.0);
   EXPECT_DOUBLE_EQ(tf["translation"]["x"].get<double>(), 2.0);  // east
 
-  ws.write(asio::buffer(json{{"op", "unsubscribe"}, {"subscriptionIds", {7}}}.dump()));
-  ws.write(
-      asio::buffer(json{{"op", "setParameters"},
-                        {"id", "s1"},
-                        {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.07}}}}}
-                       .dump()));
+  client->send(json{{"op", "unsubscribe"}, {"subscriptionIds", {7}}});
+  client->send(json{{"op", "setParameters"},
+                    {"id", "s1"},
+                    {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 0.07}}}}});
   // Skip frames still in flight from before the unsubscribe.
   json reply;
   do {
@@ -450,9 +444,8 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   // The tick stand-in applies it; getParameters reports what is in force.
   bool applied = false;
   for (int i = 0; i < 200 && !applied; ++i) {
-    ws.write(asio::buffer(
-        json{{"op", "getParameters"}, {"id", "g"}, {"parameterNames", {"heading_pid.kp_per_deg"}}}
-            .dump()));
+    client->send(
+        json{{"op", "getParameters"}, {"id", "g"}, {"parameterNames", {"heading_pid.kp_per_deg"}}});
     json values;
     do {
       auto [b, text] = next();
@@ -464,10 +457,9 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   }
   EXPECT_TRUE(applied);
 
-  ws.write(asio::buffer(json{{"op", "setParameters"},
-                             {"id", "s2"},
-                             {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 9.0}}}}}
-                            .dump()));
+  client->send(json{{"op", "setParameters"},
+                    {"id", "s2"},
+                    {"parameters", {{{"name", "heading_pid.kp_per_deg"}, {"value", 9.0}}}}});
   json st;
   do {
     auto [b, text] = next();
@@ -476,7 +468,7 @@ TEST_F(LiveServerTest, FoxgloveSubscribeReceiveAndSetParameters) {
   EXPECT_EQ(st["op"], "status");
   EXPECT_EQ(st["level"], 2);
   EXPECT_NE(st["message"].get<std::string>().find("kp_per_deg"), std::string::npos);
-  ws.close(websocket::close_code::normal);
+  client->close();
 }
 
 TEST_F(LiveServerTest, SetParametersWithoutTheTokenIsRefusedAndChangesNothing) {
