@@ -114,13 +114,8 @@ TEST(ProtoCodec, AFullTickFitsItsBoundAndRoundTrips) {
   snap->imu.sequence = 400;
   snap->imu.value.heading_deg = 45.0;
   snap->camera = {full_camera(), 3000, 5};
-  for (std::size_t d = 0; d < msg::kDeviceCount; ++d) {
-    snap->health[d] = {make_health(static_cast<msg::DeviceId>(d)), 3000, d + 1};
-  }
-  msg::ActuatorCommand cmd;
-  cmd.pulse_us = {1650, 1420};
-  cmd.active = true;
-  cmd.led = msg::LedColour::kGreen;
+  fill_health(*snap);
+  const msg::ActuatorCommand cmd = make_command();
   const std::string path(400, 'p');  // longer than kept
   std::vector<std::uint8_t> buf(proto::kMaxTickBytes);
   const std::size_t n = proto::encode_tick(buf, 17, 5000, *snap, cmd, path);

@@ -2,8 +2,11 @@
 #pragma once
 // Messages with every field set to something other than its default, shared by the tests of
 // both recording encodings.
+#include <cstddef>
 #include <string>
 
+#include "coxswain/core/latest_store.hpp"
+#include "coxswain/msg/actuator_command.hpp"
 #include "coxswain/msg/device_health.hpp"
 #include "coxswain/msg/gnss_fix.hpp"
 
@@ -49,6 +52,22 @@ inline msg::DeviceHealth make_health(msg::DeviceId id) {
   h.rate_hz = 10.0;
   h.set_detail(std::string(300, 'd'));  // longest detail the struct holds
   return h;
+}
+
+/// Every device's health slot filled (sequence = device number + 1).
+inline void fill_health(core::Snapshot& snap) {
+  for (std::size_t d = 0; d < msg::kDeviceCount; ++d) {
+    snap.health[d] = {make_health(static_cast<msg::DeviceId>(d)), 3000, d + 1};
+  }
+}
+
+/// An active command with both channels off neutral.
+inline msg::ActuatorCommand make_command() {
+  msg::ActuatorCommand cmd;
+  cmd.pulse_us = {1650, 1420};
+  cmd.active = true;
+  cmd.led = msg::LedColour::kGreen;
+  return cmd;
 }
 
 }  // namespace coxswain::record
