@@ -225,6 +225,14 @@ struct Recorder::SamplerState {
 
 namespace {
 
+void write_metadata_records(McapWriter& w, const MetadataRecords& records) {
+  for (const auto& [name, values] : records) {
+    McapMetadataMap map;
+    for (const auto& [key, value] : values) map.emplace(key, value);
+    (void)w.write_metadata(name, map);  // a failure shows in the writer's state
+  }
+}
+
 class RecorderLogSink final : public spdlog::sinks::base_sink<std::mutex> {
  public:
   explicit RecorderLogSink(
@@ -354,11 +362,7 @@ bool Recorder::start() {
                                  "log_time = UTC nanoseconds = steady stamp + log_time_offset_ns; "
                                  "the messages' own stamp fields are the steady clock"}});
   w.write_metadata("config", {{"yaml", options_.config_yaml}});
-  for (const auto& [name, values] : options_.extra_metadata) {
-    McapMetadataMap map;
-    for (const auto& [key, value] : values) map.emplace(key, value);
-    w.write_metadata(name, map);
-  }
+  write_metadata_records(w, options_.extra_metadata);
   if (!w.close_chunk() || w.failed()) {
     note_failure();
     w.close();
@@ -379,7 +383,7 @@ bool Recorder::start() {
   return true;
 }
 
-void Recorder::stop() {
+void Recorder::stop(MetadataRecords closing_metadata) {
   if (!thread_.joinable()) return;
   accepting_.store(false, std::memory_order_release);
   queues_->log_accepting.store(false, std::memory_order_release);
@@ -396,6 +400,7 @@ void Recorder::stop() {
   }
   {
     std::lock_guard lock(stop_mutex_);
+    closing_metadata_ = std::move(closing_metadata);
     stop_.store(true, std::memory_order_release);
   }
   stop_cv_.notify_all();
@@ -797,6 +802,10 @@ void Recorder::run() {
   log_drops(true);
   // Lines logged by log_drops above are still in the queue: one more pass takes them.
   drain_once();
+  {
+    std::lock_guard lock(stop_mutex_);
+    write_metadata_records(w, closing_metadata_);
+  }
   if (!failed_.load(std::memory_order_relaxed)) {
     if (!w.close()) note_failure();
   } else {

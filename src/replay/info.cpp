@@ -35,15 +35,6 @@ std::string config_hash(std::string_view text) {
   return buf;
 }
 
-std::string utc_text(std::int64_t utc_ns) {
-  const auto seconds = static_cast<std::time_t>(utc_ns / 1'000'000'000);
-  std::tm tm{};
-  gmtime_r(&seconds, &tm);
-  char buf[32];
-  (void)std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
-  return buf;
-}
-
 std::string size_text(std::uint64_t bytes) {
   char buf[32];
   if (bytes >= (1U << 20U)) {
@@ -59,6 +50,15 @@ std::string size_text(std::uint64_t bytes) {
 double rounded(double value, double scale) { return std::round(value * scale) / scale; }
 
 }  // namespace
+
+std::string format_utc(std::int64_t utc_ns) {
+  const auto seconds = static_cast<std::time_t>(utc_ns / 1'000'000'000);
+  std::tm tm{};
+  gmtime_r(&seconds, &tm);
+  char buf[32];
+  (void)std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return buf;
+}
 
 RecordingInfo recording_info(const fs::path& mcap) {
   RecordingInfo info;
@@ -181,7 +181,7 @@ std::string format_info(const RecordingInfo& info) {
       << ", " << (info.crc_ok ? "every CRC valid" : "CRC or format errors") << "\n";
   if (!info.build_version.empty() || info.utc_start_ns != 0) {
     out << "recorded by: " << (info.build_version.empty() ? "?" : info.build_version);
-    if (info.utc_start_ns != 0) out << ", started " << utc_text(info.utc_start_ns);
+    if (info.utc_start_ns != 0) out << ", started " << format_utc(info.utc_start_ns);
     out << "\n";
   }
   std::snprintf(line, sizeof line, "duration: %.2f s, %llu messages, %llu ticks\n", info.duration_s,

@@ -11,8 +11,11 @@
 #include <stdexcept>
 
 #include "coxswain/core/angles.hpp"
+#include "coxswain/host/step_record.hpp"
 #include "coxswain/mission/tunable_parameters.hpp"
 #include "coxswain/msg/device_health.hpp"
+#include "coxswain/replay/info.hpp"
+#include "page_text.hpp"
 
 namespace coxswain::report {
 namespace {
@@ -23,185 +26,11 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr std::size_t kMaxPoints = 6000;
 // Obstacle segments drawn for runs without a course: at most this many, sampled once a second.
 constexpr std::size_t kMaxSegments = 20000;
+// The planner's paths kept for the map: a new one at most every half second, at most this many.
+constexpr std::size_t kMaxPlans = 2000;
+constexpr core::TimeNs kPlanPeriodNs = core::kNsPerSec / 2;
 
 double num(bool valid, double v) { return valid ? v : kNaN; }
-
-// The page: static text with the data spliced in. The script draws every plot into its SVG and
-// marks it rendered with its point count (the headless-browser test checks those marks).
-constexpr const char* kHead = R"HTML(<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>coxswain report</title>
-<style>
-body{font-family:sans-serif;margin:16px;color:#222;background:#fff}
-h1{font-size:20px}h2{font-size:16px;margin:18px 0 4px}
-svg.plot{border:1px solid #ccc;background:#fcfcfc;display:block}
-table{border-collapse:collapse;font-size:12px}td,th{border:1px solid #ddd;padding:2px 6px;text-align:left}
-.legend span{margin-right:12px;font-size:12px}.note{font-size:12px;color:#555}
-</style></head><body>
-)HTML";
-
-constexpr const char* kScript = R"JS(
-const D = JSON.parse(document.getElementById('report-data').textContent);
-const NS = 'http://www.w3.org/2000/svg';
-function el(parent, name, attrs, text) {
-  const e = document.createElementNS(NS, name);
-  for (const k in attrs) e.setAttribute(k, attrs[k]);
-  if (text !== undefined) e.textContent = text;
-  parent.appendChild(e);
-  return e;
-}
-function fin(v) { return v !== null && v !== undefined && isFinite(v); }
-function extent(arrays) {
-  let lo = Infinity, hi = -Infinity;
-  for (const a of arrays) for (const v of a) if (fin(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
-  if (!isFinite(lo)) { lo = 0; hi = 1; }
-  if (hi - lo < 1e-9) { lo -= 0.5; hi += 0.5; }
-  return [lo, hi];
-}
-function mark(svg, points) {
-  svg.setAttribute('data-rendered', 'true');
-  svg.setAttribute('data-points', String(points));
-}
-function legend(id, series) {
-  const div = document.getElementById(id + '-legend');
-  if (!div) return;
-  for (const s of series) {
-    const sp = document.createElement('span');
-    sp.style.color = s.color; sp.textContent = '\u25A0 ' + s.name; div.appendChild(sp);
-  }
-}
-// A time plot: series [{name, ys, color, step}] over the shared xs.
-function linePlot(id, xs, series, ylabel, yrange) {
-  const svg = document.getElementById(id);
-  const W = +svg.getAttribute('width'), H = +svg.getAttribute('height');
-  const L = 60, R = 10, T = 20, B = 30;
-  const [x0, x1] = extent([xs]);
-  const [y0, y1] = yrange || extent(series.map(s => s.ys));
-  const X = x => L + (x - x0) / (x1 - x0) * (W - L - R);
-  const Y = y => H - B - (y - y0) / (y1 - y0) * (H - T - B);
-  for (let i = 0; i <= 5; i++) {
-    const xv = x0 + (x1 - x0) * i / 5, yv = y0 + (y1 - y0) * i / 5;
-    el(svg, 'line', {x1: X(xv), x2: X(xv), y1: T, y2: H - B, stroke: '#eee'});
-    el(svg, 'line', {x1: L, x2: W - R, y1: Y(yv), y2: Y(yv), stroke: '#eee'});
-    el(svg, 'text', {x: X(xv), y: H - 12, 'font-size': 10, 'text-anchor': 'middle'}, xv.toFixed(1));
-    el(svg, 'text', {x: L - 4, y: Y(yv) + 3, 'font-size': 10, 'text-anchor': 'end'},
-       Math.abs(y1 - y0) < 10 ? yv.toFixed(2) : yv.toFixed(0));
-  }
-  el(svg, 'text', {x: 4, y: 12, 'font-size': 10}, ylabel);
-  el(svg, 'text', {x: W - R, y: H - 2, 'font-size': 10, 'text-anchor': 'end'}, 'time (s)');
-  let points = 0;
-  for (const s of series) {
-    let d = '', pen = false, prev = null;
-    for (let i = 0; i < xs.length; i++) {
-      const y = s.ys[i];
-      if (!fin(y)) { pen = false; continue; }
-      if (s.wrap && pen && Math.abs(y - prev) > 180) pen = false;  // heading crossing +-180
-      if (s.step && pen && prev !== null) d += 'L' + X(xs[i]).toFixed(1) + ' ' + Y(prev).toFixed(1);
-      d += (pen ? 'L' : 'M') + X(xs[i]).toFixed(1) + ' ' + Y(y).toFixed(1);
-      pen = true; prev = y; points++;
-    }
-    el(svg, 'path', {d: d, fill: 'none', stroke: s.color, 'stroke-width': 1.2});
-  }
-  legend(id, series);
-  mark(svg, points);
-}
-function drawTrack() {
-  const svg = document.getElementById('track');
-  const W = +svg.getAttribute('width'), H = +svg.getAttribute('height');
-  const C = D.course || {};
-  const es = [], ns = [];
-  const add = (n, e) => { if (fin(n) && fin(e)) { ns.push(n); es.push(e); } };
-  D.track.north.forEach((n, i) => add(n, D.track.east[i]));
-  for (const w of (C.walls || [])) for (const p of w) add(p[0], p[1]);
-  for (const b of (C.buoys || [])) add(b.n, b.e);
-  for (const w of (C.waypoints || [])) add(w.n, w.e);
-  for (const s of D.segments) { add(s[0], s[1]); add(s[2], s[3]); }
-  const [e0, e1] = extent([es]), [n0, n1] = extent([ns]);
-  const pad = 2, span = Math.max(e1 - e0, n1 - n0) + 2 * pad;
-  const k = Math.min(W, H) / span;
-  const cx = (e0 + e1) / 2, cy = (n0 + n1) / 2;
-  const X = e => W / 2 + (e - cx) * k, Y = n => H / 2 - (n - cy) * k;
-  let points = 0;
-  for (const s of D.segments) {
-    el(svg, 'line', {x1: X(s[1]), y1: Y(s[0]), x2: X(s[3]), y2: Y(s[2]), stroke: '#bbb', 'stroke-width': 1});
-    points++;
-  }
-  for (const w of (C.walls || [])) {
-    el(svg, 'polyline', {points: w.map(p => X(p[1]) + ',' + Y(p[0])).join(' '), fill: 'none', stroke: '#444', 'stroke-width': 2});
-    points += w.length;
-  }
-  for (const b of (C.buoys || [])) {
-    el(svg, 'circle', {cx: X(b.e), cy: Y(b.n), r: Math.max(2, b.r * k), fill: b.colour || 'orange', stroke: '#333'});
-    points++;
-  }
-  (C.waypoints || []).forEach((w, i) => {
-    el(svg, 'circle', {cx: X(w.e), cy: Y(w.n), r: Math.max(2, w.r * k), fill: 'none', stroke: '#07c', 'stroke-dasharray': '4 3'});
-    el(svg, 'text', {x: X(w.e) + 4, y: Y(w.n) - 4, 'font-size': 10, fill: '#07c'}, w.name || ('wp' + i));
-    points++;
-  });
-  let d = '', pen = false;
-  for (let i = 0; i < D.track.north.length; i++) {
-    const n = D.track.north[i], e = D.track.east[i];
-    if (!fin(n) || !fin(e)) { pen = false; continue; }
-    d += (pen ? 'L' : 'M') + X(e).toFixed(1) + ' ' + Y(n).toFixed(1); pen = true; points++;
-  }
-  el(svg, 'path', {d: d, fill: 'none', stroke: '#d22', 'stroke-width': 1.5});
-  if (C.start) el(svg, 'circle', {cx: X(C.start[1]), cy: Y(C.start[0]), r: 4, fill: '#2a2'});
-  el(svg, 'text', {x: 6, y: 14, 'font-size': 11}, 'north up, ' + (span / W * 100).toFixed(1) + ' m per 100 px');
-  mark(svg, points);
-}
-function drawStates() {
-  const svg = document.getElementById('states');
-  const W = +svg.getAttribute('width'), H = +svg.getAttribute('height');
-  const xs = D.t, t0 = xs.length ? xs[0] : 0, t1 = xs.length ? xs[xs.length - 1] : 1;
-  const X = t => 10 + (t - t0) / Math.max(1e-9, t1 - t0) * (W - 20);
-  const names = [...new Set(D.paths.map(p => p.path))];
-  const rowH = Math.max(10, (H - 30) / Math.max(1, names.length));
-  const hue = i => 'hsl(' + (i * 67 % 360) + ',60%,55%)';
-  D.paths.forEach((p, i) => {
-    const end = i + 1 < D.paths.length ? D.paths[i + 1].t : t1;
-    const row = names.indexOf(p.path);
-    el(svg, 'rect', {x: X(p.t), y: 5 + row * rowH, width: Math.max(1, X(end) - X(p.t)), height: rowH - 2, fill: hue(row)},
-       undefined).appendChild(document.createElementNS(NS, 'title')).textContent = p.path;
-  });
-  names.forEach((n, i) => el(svg, 'text', {x: 12, y: 5 + i * rowH + rowH / 2 + 3, 'font-size': 10}, n));
-  el(svg, 'text', {x: W - 10, y: H - 4, 'font-size': 10, 'text-anchor': 'end'},
-     t0.toFixed(1) + ' .. ' + t1.toFixed(1) + ' s');
-  const tb = document.getElementById('transitions');
-  for (const tr of D.transitions) {
-    const row = tb.insertRow();
-    [tr.t.toFixed(2), tr.from, tr.to, tr.reason].forEach(v => { row.insertCell().textContent = v; });
-  }
-  mark(svg, D.paths.length);
-}
-function drawHealth() {
-  const series = D.rates.map((h, i) => ({name: h.device + ' (Hz)', ys: h.rate_hz, color: ['#c33', '#39c', '#3a3', '#a6c', '#c90'][i % 5]}));
-  linePlot('health', D.t, series, 'new samples per second seen by the core (Hz)');
-  const tb = document.getElementById('health-table');
-  if (D.health.length === 0) tb.insertRow().insertCell().textContent = 'no device health in the recording';
-  for (const h of D.health) {
-    const row = tb.insertRow();
-    [h.device, h.states.join(', '), h.final_state, h.frames_ok, h.checksum_errors, h.framing_errors, h.reopen_count]
-      .forEach(v => { row.insertCell().textContent = v; });
-  }
-}
-try {
-  drawTrack();
-  linePlot('heading', D.t, [{name: 'heading', ys: D.heading, color: '#c33', wrap: true},
-                            {name: 'desired heading', ys: D.desired, color: '#36c', wrap: true}], 'deg (0 north, clockwise)');
-  linePlot('pulses', D.t, [{name: 'servo/port (us)', ys: D.pulse0, color: '#a6c', step: true},
-                           {name: 'thrust/starboard (us)', ys: D.pulse1, color: '#c60', step: true}], 'pulse (us)');
-  linePlot('speed', D.t, [{name: 'GNSS ground speed (m/s)', ys: D.speed, color: '#093'}], 'm/s');
-  drawStates();
-  drawHealth();
-  linePlot('timing', D.t, [{name: 'tick interval (ms)', ys: D.tick_dt_ms, color: '#555'}], 'ms');
-  linePlot('gnss', D.t, [{name: 'h_acc (m)', ys: D.h_acc, color: '#c33'},
-                         {name: 'satellites', ys: D.sats, color: '#36c', step: true},
-                         {name: 'fix type', ys: D.fix_type, color: '#093', step: true}], 'h_acc m / count / type');
-} catch (e) {
-  document.getElementById('error').textContent = 'drawing failed: ' + e;
-}
-)JS";
 
 // Escapes text for HTML element content.
 std::string html_escape(std::string_view s) {
@@ -234,6 +63,109 @@ std::string plot(const char* id, const char* title, int width, int height) {
          "\" height=\"" + std::to_string(height) + "\"></svg>\n";
 }
 
+std::string fixed(double v, int digits) {
+  char buf[48];
+  (void)std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// The mission's geometry in the navigation frame: marks and closed areas.
+json map_json(const record::MapGeometry& geometry) {
+  json marks = json::array();
+  for (const record::MapMark& m : geometry.marks) {
+    marks.push_back({{"label", m.label},
+                     {"kind", m.kind == record::MapMark::Kind::kSlip ? "slip" : "waypoint"},
+                     {"n", m.at.nav.north_m},
+                     {"e", m.at.nav.east_m}});
+  }
+  json areas = json::array();
+  for (const record::MapArea& a : geometry.areas) {
+    json points = json::array();
+    for (const record::MapVertex& v : a.corners) points.push_back({v.nav.north_m, v.nav.east_m});
+    areas.push_back({{"label", a.label},
+                     {"kind", a.kind == record::MapArea::Kind::kNoGo ? "no-go" : "boundary"},
+                     {"points", std::move(points)}});
+  }
+  return {{"marks", std::move(marks)}, {"areas", std::move(areas)}};
+}
+
+using MetadataMap = std::map<std::string, std::string>;
+
+// What the top of the page says: the date, the result and the score, in words.
+struct RunSummary {
+  std::string date;
+  std::string headline;  // short: the title and the heading
+  std::string result;
+  std::string score;
+  bool good = false;    // finished (and, with a judge, passed)
+  bool judged = false;  // the simulator's judge scored the run
+};
+
+RunSummary summarise(const MetadataMap& coxswain_metadata,
+                     const std::map<std::string, MetadataMap>& metadata,
+                     const mission::MissionStatus& status, double finish_t) {
+  RunSummary s;
+  s.date = "date not recorded";
+  if (const auto v = coxswain_metadata.find("utc_ns_at_start"); v != coxswain_metadata.end()) {
+    const long long utc_ns = std::strtoll(v->second.c_str(), nullptr, 10);
+    if (utc_ns > 0) s.date = replay::format_utc(utc_ns);
+  }
+  if (status.finished) {
+    s.result = "finished in " + fixed(status.mission_elapsed_s, 1) + " s";
+    if (!std::isnan(finish_t)) s.result += " (at " + fixed(finish_t, 1) + " s of the recording)";
+  } else if (status.started) {
+    s.result = "not finished: " + std::string(status.state_path.view()) + " after " +
+               fixed(status.mission_elapsed_s, 1) + " s";
+    if (status.holding) {
+      s.result += ", holding (" + std::string(mission::hold_reason_name(status.hold_reason)) + ")";
+    }
+  } else {
+    s.result = "never started";
+    if (!status.waiting_for.view().empty()) {
+      s.result += " (waiting for " + std::string(status.waiting_for.view()) + ")";
+    }
+  }
+  s.good = status.finished;
+  s.headline = status.finished ? "finished in " + fixed(status.mission_elapsed_s, 1) + " s"
+                               : std::string(status.started ? "not finished" : "never started");
+  const std::string own_count = std::to_string(status.waypoints_arrived) + " waypoints reached, " +
+                                std::to_string(status.waypoints_missed) + " missed, " +
+                                std::to_string(status.tasks_timed_out) + " tasks timed out, " +
+                                std::to_string(status.hold_count) + " holds";
+  json judge;
+  if (const auto it = metadata.find("judge"); it != metadata.end()) {
+    if (const auto j = it->second.find("json"); j != it->second.end()) {
+      judge = json::parse(j->second, nullptr, /*allow_exceptions=*/false);
+    }
+  }
+  if (judge.is_object() && judge.contains("score_s")) {
+    const bool passed = judge.value("passed", false);
+    const std::string collisions = std::to_string(judge.value("collisions", 0)) + " collisions";
+    s.score =
+        (passed ? fixed(judge.value("score_s", 0.0), 2) + " s (run " +
+                      fixed(judge.value("elapsed_s", 0.0), 2) + " s + penalties " +
+                      fixed(judge.value("penalty_s", 0.0), 2) + " s, " + collisions + "), passed"
+                : "none, failed: " + judge.value("failure", std::string("not completed")) + " (" +
+                      collisions + ")") +
+        "; the simulator's judge. The boat's own count: " + own_count;
+    // The judge's verdict leads: the simulator ends a run once the judge has seen it complete,
+    // which may come before the mission declares itself finished.
+    s.good = passed;
+    s.judged = true;
+    if (passed && !status.finished) {
+      s.result += "; the simulator ended the run when its judge saw the course completed";
+    }
+    s.headline = passed ? "passed, score " + fixed(judge.value("score_s", 0.0), 2) + " s"
+                        : "failed: " + judge.value("failure", std::string("not completed"));
+  } else {
+    s.score =
+        "no judge in this recording (a run on the water is scored by the referees); the "
+        "boat's own count: " +
+        own_count;
+  }
+  return s;
+}
+
 }  // namespace
 
 ReportResult build_report(const replay::Recording& recording, const config::Configuration& config,
@@ -245,7 +177,15 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
        desired = json::array(), pulse0 = json::array(), pulse1 = json::array(),
        speed = json::array(), tick_dt = json::array(), h_acc = json::array(), sats = json::array(),
        fix_type = json::array(), transitions = json::array(), paths = json::array(),
-       segments = json::array();
+       segments = json::array(), goal_n = json::array(), goal_e = json::array(),
+       supply_v = json::array(), estop = json::array(), rc_present = json::array(),
+       autonomous = json::array(), failsafe = json::array(), plans = json::array();
+  // Moments of the run (seconds from the first tick; null when they never came).
+  json start_t = nullptr, calibration_t = nullptr, finish_t = nullptr;
+  mission::MissionStatus last_status;
+  std::uint32_t last_plan_count = 0;
+  core::NavPoint last_plan_end;
+  core::TimeNs next_plan_ns = core::kNeverNs;
   struct HealthSeries {
     std::vector<std::string> states;
     msg::DeviceHealth last;
@@ -262,6 +202,8 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
   constexpr std::size_t kInputs = 5;
   static constexpr const char* kInputNames[kInputs] = {"lidar", "imu", "gnss", "camera", "arduino"};
   std::array<RateWindow, kInputs> rates;
+  std::array<std::uint64_t, kInputs> first_sequence{};
+  std::array<std::uint64_t, kInputs> last_sequence{};
   std::uint64_t index = 0;
   core::TimeNs t0 = 0;
   core::TimeNs prev_ns = core::kNeverNs;
@@ -284,6 +226,11 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
                              {"to", std::string(tr.to.view())},
                              {"reason", std::string(tr.reason.view())}});
     }
+    const mission::MissionStatus& status = out.status;
+    last_status = status;
+    if (status.started && start_t.is_null()) start_t = ts;
+    if (status.gps_calibrated && calibration_t.is_null()) calibration_t = ts;
+    if (status.finished && finish_t.is_null()) finish_t = ts;
     const std::string_view path = out.status.state_path.view();
     if (paths.empty() || path != last_path) {
       last_path = std::string(path);
@@ -302,6 +249,8 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
         tick.snapshot.lidar.sequence, tick.snapshot.imu.sequence, tick.snapshot.gnss.sequence,
         tick.snapshot.camera.sequence, tick.snapshot.arduino.sequence};
     for (std::size_t i = 0; i < kInputs; ++i) {
+      if (index == 0) first_sequence[i] = sequences[i];
+      last_sequence[i] = sequences[i];
       RateWindow& w = rates[i];
       if (w.start_ns == core::kNeverNs) {
         w.start_ns = tick.now_ns;
@@ -331,6 +280,24 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
         segments.push_back({a.first, a.second, b.first, b.second});
       }
     }
+    // The plan as it changes (a new count or a new end), so the map can show the one in force.
+    const std::uint32_t plan_count =
+        std::min<std::uint32_t>(v.path_count, mission::VizFrame::kMaxPathPoints);
+    const core::NavPoint plan_end = plan_count > 0 ? v.path[plan_count - 1] : core::NavPoint{};
+    const bool plan_changed = plan_count != last_plan_count ||
+                              plan_end.north_m != last_plan_end.north_m ||
+                              plan_end.east_m != last_plan_end.east_m;
+    if (plan_changed && plans.size() < kMaxPlans &&
+        (next_plan_ns == core::kNeverNs || tick.now_ns >= next_plan_ns || plan_count == 0)) {
+      next_plan_ns = tick.now_ns + kPlanPeriodNs;
+      last_plan_count = plan_count;
+      last_plan_end = plan_end;
+      json points = json::array();
+      for (std::uint32_t i = 0; i < plan_count; ++i) {
+        points.push_back({v.path[i].north_m, v.path[i].east_m});
+      }
+      plans.push_back({{"t", ts}, {"points", std::move(points)}});
+    }
     if (index++ % stride != 0) return;
     t.push_back(ts);
     north.push_back(num(v.pose_valid, v.pose.position.north_m));
@@ -344,6 +311,15 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
     h_acc.push_back(num(g.valid(), g.value.h_acc_m));
     sats.push_back(num(g.valid(), g.value.satellites));
     fix_type.push_back(num(g.valid(), static_cast<double>(g.value.fix_type)));
+    goal_n.push_back(num(v.has_goal, v.goal.north_m));
+    goal_e.push_back(num(v.has_goal, v.goal.east_m));
+    const auto& a = tick.snapshot.arduino;
+    const auto flag = [&a](bool on) { return num(a.valid(), on ? 1.0 : 0.0); };
+    supply_v.push_back(num(a.valid(), a.value.supply_v));
+    estop.push_back(flag(a.value.estop));
+    rc_present.push_back(flag(a.value.rc_present));
+    autonomous.push_back(flag(a.value.mode == msg::ControlMode::kAutonomous));
+    failsafe.push_back(flag(a.value.failsafe));
     tick_dt.push_back(stride == 1 ? dt_ms : max_dt_ms);
     max_dt_ms = 0.0;
     for (RateWindow& w : rates) w.series.push_back(w.rate_hz);
@@ -370,26 +346,45 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
                            {"framing_errors", hs.last.framing_errors},
                            {"reopen_count", hs.last.reopen_count}});
   }
+  const double duration_s = static_cast<double>(prev_ns - t0) / 1e9;
   json rates_json = json::array();
+  std::string mean_rates;
   for (std::size_t i = 0; i < kInputs; ++i) {
     rates_json.push_back({{"device", kInputNames[i]}, {"rate_hz", rates[i].series}});
+    const double mean_hz =
+        duration_s > 0.0 ? static_cast<double>(last_sequence[i] - first_sequence[i]) / duration_s
+                         : 0.0;
+    mean_rates += std::string(mean_rates.empty() ? "" : ", ") + kInputNames[i] + " " +
+                  fixed(mean_hz, 1) + " Hz";
   }
-  json data = {{"t", t},
-               {"track", {{"north", north}, {"east", east}}},
-               {"heading", heading},
-               {"desired", desired},
-               {"pulse0", pulse0},
-               {"pulse1", pulse1},
-               {"speed", speed},
-               {"tick_dt_ms", tick_dt},
-               {"h_acc", h_acc},
-               {"sats", sats},
-               {"fix_type", fix_type},
-               {"transitions", transitions},
-               {"paths", paths},
-               {"segments", segments},
-               {"health", health_json},
-               {"rates", rates_json}};
+  json data = {
+      {"t", t},
+      {"track", {{"north", north}, {"east", east}}},
+      {"heading", heading},
+      {"desired", desired},
+      {"pulse0", pulse0},
+      {"pulse1", pulse1},
+      {"speed", speed},
+      {"tick_dt_ms", tick_dt},
+      {"h_acc", h_acc},
+      {"sats", sats},
+      {"fix_type", fix_type},
+      {"transitions", transitions},
+      {"paths", paths},
+      {"segments", segments},
+      {"health", health_json},
+      {"rates", rates_json},
+      {"goal_n", goal_n},
+      {"goal_e", goal_e},
+      {"power",
+       {{"supply_v", supply_v},
+        {"estop", estop},
+        {"rc_present", rc_present},
+        {"autonomous", autonomous},
+        {"failsafe", failsafe}}},
+      {"plans", plans},
+      {"events", {{"start_t", start_t}, {"calibration_t", calibration_t}, {"finish_t", finish_t}}},
+      {"map", map_json(host::map_geometry(config.mission))}};
   if (const auto it = recording.file.metadata.find("course"); it != recording.file.metadata.end()) {
     if (const auto j = it->second.find("json"); j != it->second.end()) {
       data["course"] = json::parse(j->second, nullptr, /*allow_exceptions=*/false);
@@ -436,16 +431,46 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
     }
   }
   const replay::ReplayReport& r = result.replay;
-  std::string html = kHead;
-  html += "<h1>coxswain run report: " + html_escape(title) + "</h1>\n<p class=\"note\">mission " +
-          html_escape(config.mission.name) + ", boat " + html_escape(config.boat.name) + "; " +
-          std::to_string(r.ticks) + " ticks; replay " +
+  const auto coxswain_metadata = recording.file.metadata.find("coxswain");
+  const RunSummary summary = summarise(
+      coxswain_metadata != recording.file.metadata.end() ? coxswain_metadata->second
+                                                         : MetadataMap{},
+      recording.file.metadata, last_status, finish_t.is_null() ? kNaN : finish_t.get<double>());
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>" +
+                     html_escape("coxswain: " + config.mission.name + ", " + summary.date + ", " +
+                                 summary.headline) +
+                     "</title>\n<style>" + kPageStyle + "</style></head><body>\n";
+  html += "<h1>" + html_escape(config.mission.name) + ": " + html_escape(summary.headline) +
+          "</h1>\n<table id=\"summary\">";
+  const auto row = [&html](const char* name, const std::string& value, const char* cls = "") {
+    html += std::string("<tr><th>") + name + "</th><td" +
+            (*cls != '\0' ? std::string(" class=\"") + cls + "\"" : std::string()) + ">" +
+            html_escape(value) + "</td></tr>";
+  };
+  row("mission", config.mission.name + " (boat " + config.boat.name + ")");
+  row("date", summary.date);
+  row("result", summary.result, last_status.finished ? "passed" : (summary.judged ? "" : "failed"));
+  row("score", summary.score, summary.good ? "passed" : "failed");
+  row("run",
+      title + ": " + fixed(duration_s, 1) + " s, " + std::to_string(r.ticks) + " ticks; replay " +
           (r.identical() ? std::string("identical to the recording")
                          : std::to_string(r.ticks_different) +
-                               " ticks differ from the recording (plots show the replay)") +
-          (recording.file.truncated ? "; the recording is truncated" : "") +
-          "</p>\n<p id=\"error\" style=\"color:#c00\"></p>\n";
+                               " ticks differ from the recording (the plots show the replay)") +
+          (recording.file.truncated ? "; the recording is truncated" : ""));
+  html += "</table>\n<p id=\"error\" style=\"color:#c00\"></p>\n";
+  html +=
+      "<div id=\"toolbar\"><button id=\"reset-zoom\">Reset zoom</button><span id=\"view-range\">"
+      "</span><br><span id=\"cursor-readout\"></span></div>\n<p class=\"note\">Drag across a time "
+      "plot "
+      "to zoom every plot to that span; the wheel zooms around the pointer; a double click shows "
+      "the "
+      "whole run. The pointer's time is the cursor on every plot and the boat on the map. Grey "
+      "background: before the start; dashed line: the start calibration.</p>\n";
   html += plot("track", "Track on the course", 700, 560);
+  html +=
+      "<p class=\"note\">Red: the track (dark and thick: the time span in view). Grey dashed: the "
+      "estimate before the start calibration (uncorrected GPS). Blue dashed: the planner's path at "
+      "the cursor. Drag to pan, the wheel zooms, a double click fits.</p>\n";
   html += plot("heading", "Heading vs desired heading", 900, 220);
   html += plot("pulses", "Servo and thrust pulses", 900, 220);
   html += plot("speed", "Speed over ground", 900, 180);
@@ -459,15 +484,17 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
       (parameter_rows.empty() ? std::string("<tr><td colspan=\"5\">none</td></tr>")
                               : parameter_rows) +
       "</table>\n";
-  html += plot("health", "Device rates and health", 900, 200);
+  html += plot("health", "Device rates (each on its own scale)", 900, 260);
+  html += "<p class=\"note\" id=\"mean-rates\">mean rates over the run: " + mean_rates + "</p>\n";
   html +=
       "<table id=\"health-table\"><tr><th>device</th><th>states seen</th><th>final</th>"
       "<th>frames ok</th><th>checksum errors</th><th>framing errors</th><th>reopens</th>"
       "</tr></table>\n";
+  html += plot("power", "Battery, e-stop, RC and mode (Arduino)", 900, 240);
   html += plot("timing", "Tick timing (interval between ticks)", 900, 180);
   html += plot("gnss", "GNSS quality", 900, 200);
   html += "<script type=\"application/json\" id=\"report-data\">" + safe + "</script>\n<script>" +
-          kScript + "</script>\n</body></html>\n";
+          kPageScript + "</script>\n</body></html>\n";
   result.html = std::move(html);
   result.ok = true;
   return result;

@@ -76,6 +76,10 @@ inline constexpr std::size_t kRecordChannelCount = 23;
 [[nodiscard]] std::string_view channel_topic(RecordChannel channel);
 [[nodiscard]] RecordChannel raw_channel(msg::DeviceId device);
 
+/// Metadata records to write: each a name and its key/value pairs.
+using MetadataRecords =
+    std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>>;
+
 struct RecorderOptions {
   std::filesystem::path path;          // the .mcap file to create
   std::size_t raw_queue_slots = 1024;  // per device; each slot carries up to kRawSlotBytes
@@ -106,8 +110,7 @@ struct RecorderOptions {
   std::string config_yaml;       // effective configuration (Metadata "config")
   std::string build_version;     // Metadata "build"
   /// Further Metadata records (name -> key/value), e.g. the simulator's "course".
-  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>>
-      extra_metadata;
+  MetadataRecords extra_metadata;
 };
 
 struct RecorderChannelStats {
@@ -147,7 +150,9 @@ class Recorder final : public drivers::RawByteSink {
   /// (with stats().error) when the file cannot be created; the recorder then drops everything.
   bool start();
   /// Drains the queues, samples the store once more, finishes the file and joins the thread.
-  void stop();
+  /// `closing_metadata` is written after the last message (what is known only at the end, such
+  /// as the simulator judge's score).
+  void stop(MetadataRecords closing_metadata = {});
 
   void on_raw(msg::DeviceId device, drivers::RawDirection direction, core::TimeNs stamp_ns,
               std::span<const std::uint8_t> bytes) noexcept override;
@@ -215,6 +220,7 @@ class Recorder final : public drivers::RawByteSink {
   std::atomic<bool> accepting_{false};
   std::atomic<bool> stop_{false};
   std::mutex stop_mutex_;  // wakes the napping writer thread on stop(); producers never touch it
+  MetadataRecords closing_metadata_;  // set by stop() before the stop flag, read by the writer
   std::condition_variable stop_cv_;
   std::atomic<bool> running_{false};
   std::atomic<bool> failed_{false};

@@ -44,6 +44,9 @@ struct RecordingInfo {
   std::uint64_t log_errors = 0;    // ... at error or fatal
 };
 
+/// "2026-11-26 09:30:00 UTC" for nanoseconds since the Unix epoch.
+[[nodiscard]] std::string format_utc(std::int64_t utc_ns);
+
 /// Reads `mcap` once, front to back.
 [[nodiscard]] RecordingInfo recording_info(const std::filesystem::path& mcap);
 /// Human-readable, a few lines and one per channel.

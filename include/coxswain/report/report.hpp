@@ -3,11 +3,15 @@
 // `coxswain report RUN.mcap`: the postmortem report, one self-contained HTML file (data and
 // drawing script inline, no network, no external fonts or scripts). The run is replayed through
 // the mission core (replay::replay, bit-exact with the recording) to recover what the tick
-// record does not hold: pose, desired heading, transition reasons, obstacle segments. Plots:
-// track on the course (the course geometry when the recording holds Metadata "course", else the
-// lidar segments the core saw), heading vs desired heading, thrust and servo pulses, speed, the
-// state-machine timeline with transition reasons, device health and rates, tick timing and GNSS
-// quality. After drawing, the page's script marks each plot element (class "plot") with
+// record does not hold: pose, desired heading, transition reasons, obstacle segments, the
+// planner's path. On top: the mission, the date, the result and the score (the simulator
+// judge's, Metadata "judge", when the recording has one; else the boat's own count). Plots: the
+// track over the course map (the mission's geometry, and the simulator's course when the
+// recording holds Metadata "course"), with the estimate before the start calibration drawn
+// apart; heading vs desired heading, thrust and servo pulses, speed, the state-machine timeline
+// with transition reasons, each device's rate on its own scale, battery/e-stop/RC/mode, tick
+// timing and GNSS quality. Every time plot shares one zoom and one cursor (page_text.hpp).
+// After drawing, the page's script marks each plot element (class "plot") with
 // data-rendered="true" and data-points="N". Thread-safety: none; pure apart from file I/O.
 #include <filesystem>
 #include <ostream>
@@ -19,8 +23,8 @@
 namespace coxswain::report {
 
 /// The ids of the plots the page draws (each an element with class "plot").
-inline constexpr const char* kPlotIds[] = {"track",  "heading", "pulses", "speed",
-                                           "states", "health",  "timing", "gnss"};
+inline constexpr const char* kPlotIds[] = {"track",  "heading", "pulses", "speed", "states",
+                                           "health", "power",   "timing", "gnss"};
 
 struct ReportResult {
   bool ok = false;

@@ -4,6 +4,7 @@
 #include "sim/runner/ideal_sensors.hpp"
 #include "sim/runner/lockstep_runner.hpp"
 #include "sim/runner/mission_pilot.hpp"
+#include "sim/runner/mission_run.hpp"
 #include "sim/runner/recording.hpp"
 #include "sim/sensors/lidar_sim.hpp"
 #include "support/testdata.hpp"
@@ -89,8 +90,9 @@ SimRecordingResult record_sim_run(const std::filesystem::path& mcap,
       changed = true;
     }
   });
-  (void)run.run();
-  const record::RecorderStats stats = recorder.stop();
+  const runner::RunOutcome outcome = run.run();
+  const record::RecorderStats stats =
+      recorder.stop(runner::judge_json(outcome.score, pilot.status().finished));
   result.ticks = stats[record::RecordChannel::kTick].written;
   // Every channel: the simulator samples the store after each step, so not even /imu may drop.
   result.dropped = stats.total_dropped();

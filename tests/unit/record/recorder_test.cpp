@@ -280,7 +280,7 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   store->arduino.publish(msg::ArduinoStatus{}, 7);
   store->operator_input.publish(msg::OperatorInput{}, 8);
   ASSERT_TRUE(wait_for([&] { return rec.stats()[RecordChannel::kOperator].written == 1; }));
-  rec.stop();
+  rec.stop({{"judge", {{"json", R"({"score_s":54.01})"}}}});  // known only at the end
   const RecorderStats st = rec.stats();
   EXPECT_FALSE(st.failed) << st.error;
   EXPECT_GE(st.chunks, 1U);
@@ -293,7 +293,10 @@ TEST(Recorder, EveryChannelRecordedWithCountsMatchingItsStats) {
   EXPECT_TRUE(f.report.index_ok);
   EXPECT_EQ(f.report.metadata.at("config").at("yaml"), "boat:\n  name: test\n");
   EXPECT_EQ(f.report.metadata.at("coxswain").at("build_version"), "0.1.0-test");
+  ASSERT_TRUE(f.report.metadata.contains("judge"));
+  EXPECT_EQ(f.report.metadata.at("judge").at("json"), R"({"score_s":54.01})");
   ASSERT_TRUE(f.report.statistics.has_value());
+  EXPECT_EQ(f.report.statistics->metadata_count, 3U);
   EXPECT_EQ(f.report.statistics->channel_count, kRecordChannelCount);
 
   // Every channel's file count equals what the recorder says it wrote.

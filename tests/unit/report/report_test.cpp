@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 
 #include "coxswain/report/report.hpp"
@@ -101,6 +102,41 @@ TEST_F(ReportTest, PageIsSelfContainedWithEveryPlot) {
   EXPECT_EQ(d["transitions"][0]["from"], "wait_for_start");
   EXPECT_FALSE(d["transitions"][0]["reason"].get<std::string>().empty());
   EXPECT_EQ(d["rates"].size(), 5U);
+  // The map: the mission's own waypoints (four, as the course has); the start calibration's
+  // moment, so the estimate before it is drawn apart; the Arduino's lanes sample for sample.
+  EXPECT_EQ(d["map"]["marks"].size(), 4U);
+  ASSERT_TRUE(d["events"]["calibration_t"].is_number());
+  EXPECT_GT(d["events"]["calibration_t"].get<double>(), 0.0);
+  EXPECT_TRUE(d["events"]["start_t"].is_number());
+  for (const char* lane : {"supply_v", "estop", "rc_present", "autonomous", "failsafe"}) {
+    EXPECT_EQ(d["power"][lane].size(), d["t"].size()) << lane;
+  }
+  EXPECT_EQ(d["goal_n"].size(), d["t"].size());
+}
+
+// The top of the page: mission, date, result and the simulator judge's score, before any plot.
+TEST_F(ReportTest, SummaryComesFirstWithDateResultAndScore) {
+  std::ostringstream out;
+  std::ostringstream err;
+  ASSERT_EQ(run_report_command(dir_ / "run.mcap", dir_ / "summary.html", nullptr, out, err), 0)
+      << err.str();
+  std::ifstream in(dir_ / "summary.html");
+  std::stringstream page;
+  page << in.rdbuf();
+  const std::string html = page.str();
+  const auto summary = html.find("<table id=\"summary\">");
+  ASSERT_NE(summary, std::string::npos);
+  EXPECT_LT(summary, html.find("class=\"plot\""));
+  const std::string table = html.substr(summary, html.find("</table>", summary) - summary);
+  EXPECT_TRUE(std::regex_search(
+      table, std::regex(R"(<th>date</th><td>\d{4}-\d\d-\d\d \d\d:\d\d:\d\d UTC<)")))
+      << table;
+  // 10 s of the hopping course: started, not finished, and the judge says why it failed.
+  EXPECT_NE(table.find("<th>result</th><td>not finished: "), std::string::npos) << table;
+  EXPECT_NE(table.find("<th>score</th><td class=\"failed\">none, failed: "), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("the simulator's judge"), std::string::npos) << table;
+  EXPECT_NE(html.find("<title>coxswain: hopping, "), std::string::npos);
 }
 
 TEST_F(ReportTest, UnreadableRecordingIsRefused) {

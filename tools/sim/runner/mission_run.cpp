@@ -161,14 +161,22 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
     suite.set_lidar_publishing(!lidar_off);
   }
   r.outcome = runner.run();  // already over: collects the outcome
-  if (recorder) r.recording = recorder->stop();
   r.status = pilot.status();
   r.transitions = pilot.transitions();
   if (options.record_path) r.path = runner.path();
   r.camera_frames = suite.frames_processed();
   r.passed = mission_passed(r.outcome.score);
   r.failure = r.passed ? "" : scoring::failure_reason(r.outcome.score, r.status.finished);
+  if (recorder) r.recording = recorder->stop(judge_json(r.outcome.score, r.status.finished));
   return r;
+}
+
+std::string judge_json(const scoring::ScoreResult& score, bool mission_finished) {
+  nlohmann::json judge = scoring::to_json(score);
+  const bool passed = mission_passed(score);
+  judge["passed"] = passed;
+  judge["failure"] = passed ? "" : scoring::failure_reason(score, mission_finished);
+  return judge.dump();
 }
 
 nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed) {

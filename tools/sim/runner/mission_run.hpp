@@ -84,6 +84,9 @@ struct MissionRunResult {
 /// result.json: the scoring JSON plus "mission" (status), "transitions", "passed", "failure",
 /// "seed", "trajectory_hash", and with a recording "recording": {"written": {topic: n}, "dropped":
 /// {topic: n}, "failed", "error"} (the recorder's counters, which the file must match).
+/// The judge's verdict as recorded at the end of a run (Metadata "judge", read by
+/// `coxswain report`): the score, whether the run passed and, when not, why.
+[[nodiscard]] std::string judge_json(const scoring::ScoreResult& score, bool mission_finished);
 [[nodiscard]] nlohmann::json result_json(const MissionRunResult& result, std::uint64_t seed);
 
 }  // namespace coxswain::sim::runner

@@ -122,9 +122,11 @@ void RunRecorder::record_parameters(const mission::TunableParameters& params, co
   (void)recorder_->record_parameters(tick_index_, now_ns, host::named_values(params));
 }
 
-record::RecorderStats RunRecorder::stop() {
+record::RecorderStats RunRecorder::stop(const std::string& judge_json) {
   if (started_) {
-    recorder_->stop();
+    record::MetadataRecords closing;
+    if (!judge_json.empty()) closing.push_back({"judge", {{"json", judge_json}}});
+    recorder_->stop(std::move(closing));
     started_ = false;
   }
   return recorder_->stats();

@@ -2,7 +2,8 @@
 #pragma once
 // The simulator's flight recording (`coxswain-sim run ... --record FILE.mcap`): the same
 // record::Recorder, channels and effective-config metadata the daemon writes, plus Metadata
-// "course" (the course geometry as JSON, for `coxswain report`). In lockstep the virtual clock
+// "course" (the course geometry as JSON, for `coxswain report`) and, at the end, "judge" (the
+// score). In lockstep the virtual clock
 // runs far faster than any polling thread, so the runner calls sample() after every step (no
 // sampler thread) and each tick waits (real time, bounded) until the tick queue has
 // room: every input replay needs is in the file, and the trajectory stays bit-identical (the wait
@@ -46,8 +47,10 @@ class RunRecorder {
   /// virtual time would outrun it and lose IMU samples). Call after every LockstepRunner step
   /// (LockstepRunner::set_step_observer); waits (real time, bounded) for queue room first.
   void sample();
-  /// Finishes the file. Returns the recorder's final statistics.
-  record::RecorderStats stop();
+  /// Finishes the file; a non-empty `judge_json` (the judge's verdict on the run, known only at
+  /// its end) becomes Metadata "judge" (key "json") after the last message. Returns the
+  /// recorder's final statistics.
+  record::RecorderStats stop(const std::string& judge_json = {});
   [[nodiscard]] std::string error() const;
 
  private:
