@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/report/report.hpp"
 
+#include <bit>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -159,8 +159,8 @@ RunSummary summarise(const MetadataMap& coxswain_metadata,
                         : "failed: " + judge.value("failure", std::string("not completed"));
   } else {
     s.score =
-        "no judge in this recording (a run on the water is scored by the referees); the "
-        "boat's own count: " +
+        "no judge in this recording (the simulator's judge writes one; on the water the referees "
+        "score); the boat's own count: " +
         own_count;
   }
   return s;
@@ -420,7 +420,11 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
     for (const record::ParameterSetRecord& set : recording.parameter_sets) {
       for (const auto& [name, value] : set.values) {
         const auto it = in_force.find(name);
-        if (it != in_force.end() && std::memcmp(&it->second, &value, sizeof value) == 0) continue;
+        // Bit for bit: a value set again unchanged is no change, whatever its sign or NaN-ness.
+        if (it != in_force.end() &&
+            std::bit_cast<std::uint64_t>(it->second) == std::bit_cast<std::uint64_t>(value)) {
+          continue;
+        }
         parameter_rows += "<tr><td>" + number(static_cast<double>(set.stamp_ns - t0) / 1e9) +
                           "</td><td>" + std::to_string(set.tick_index) + "</td><td>" +
                           html_escape(name) + "</td><td>" +
@@ -450,7 +454,7 @@ ReportResult build_report(const replay::Recording& recording, const config::Conf
   row("mission", config.mission.name + " (boat " + config.boat.name + ")");
   row("date", summary.date);
   row("result", summary.result, last_status.finished ? "passed" : (summary.judged ? "" : "failed"));
-  row("score", summary.score, summary.good ? "passed" : "failed");
+  row("score", summary.score, !summary.judged ? "" : (summary.good ? "passed" : "failed"));
   row("run",
       title + ": " + fixed(duration_s, 1) + " s, " + std::to_string(r.ticks) + " ticks; replay " +
           (r.identical() ? std::string("identical to the recording")
