@@ -198,9 +198,9 @@ int run_main(int argc, char** argv) {
   auto* config_doc = config_cmd->add_subcommand("doc", "Print the parameter reference (Markdown)");
   auto* config_schema = config_cmd->add_subcommand("schema", "Print a config kind's JSON Schema");
   std::string schema_kind;
-  config_schema->add_option("kind", schema_kind, "boat, devices or mission")
+  config_schema->add_option("kind", schema_kind, "boat, devices, mission or vision")
       ->required()
-      ->check(CLI::IsMember({"boat", "devices", "mission"}));
+      ->check(CLI::IsMember({"boat", "devices", "mission", "vision"}));
   auto* config_params =
       config_cmd->add_subcommand("params", "Print every parameter with its bounds as JSON");
   bool params_json = false;

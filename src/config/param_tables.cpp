@@ -274,6 +274,124 @@ constexpr std::array kVisionVote{
         [](MarkerVoteParams& p, double v) { p.min_span_ns = core::sec_to_ns(v); }),
 };
 
+// ---- camera detectors (the vision file) ---------------------------------------------------
+
+using perception::BackgroundParams;
+using perception::ColourRange;
+using perception::HsvRange;
+using perception::ShapeParams;
+using perception::VisionParams;
+// The colours a range may name (a range without one is no range).
+constexpr std::array kRangeColours{
+    ParamChoice{"red", static_cast<int>(msg::Colour::kRed)},
+    ParamChoice{"orange", static_cast<int>(msg::Colour::kOrange)},
+    ParamChoice{"yellow", static_cast<int>(msg::Colour::kYellow)},
+    ParamChoice{"green", static_cast<int>(msg::Colour::kGreen)},
+    ParamChoice{"blue", static_cast<int>(msg::Colour::kBlue)},
+    ParamChoice{"purple", static_cast<int>(msg::Colour::kPurple)},
+    ParamChoice{"black", static_cast<int>(msg::Colour::kBlack)},
+    ParamChoice{"white", static_cast<int>(msg::Colour::kWhite)},
+};
+// One entry of the `colours` list. The HSV bounds are live: a venue's light is tuned while the
+// boat sails (OpenCV 8-bit: hue 0..179, saturation and value 0..255; h_min > h_max wraps).
+constexpr std::array kColourRange{
+    enum_param<ColourRange, &ColourRange::colour>("colour", kRangeColours, kFixed,
+                                                  "the colour this HSV box finds"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::h_min>(
+        "h_min", "", 0, 179, kLive, "lowest hue (above h_max: the range wraps through 180/0)"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::h_max>("h_max", "", 0, 179, kLive,
+                                                                "highest hue"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::s_min>("s_min", "", 0, 255, kLive,
+                                                                "lowest saturation"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::s_max>("s_max", "", 0, 255, kLive,
+                                                                "highest saturation"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::v_min>("v_min", "", 0, 255, kLive,
+                                                                "lowest value (brightness)"),
+    int_param<ColourRange, &ColourRange::hsv, &HsvRange::v_max>("v_max", "", 0, 255, kLive,
+                                                                "highest value (brightness)"),
+    bool_param<ColourRange, &ColourRange::markers>("markers", kFixed,
+                                                   "the marker detector searches this colour"),
+    bool_param<ColourRange, &ColourRange::buoys>("buoys", kFixed,
+                                                 "the buoy detector searches this colour"),
+};
+constexpr std::array kVision{
+    int_param<VisionParams, &VisionParams::blur_kernel_px>(
+        "blur_kernel_px", "px", 0, 31, kFixed,
+        "Gaussian pre-blur against sensor noise; odd, 0 = off"),
+    int_param<VisionParams, &VisionParams::open_kernel_px>(
+        "open_kernel_px", "px", 0, 31, kFixed, "morphological opening removes specks; 0 = off"),
+    int_param<VisionParams, &VisionParams::close_kernel_px>(
+        "close_kernel_px", "px", 0, 31, kFixed, "closing fills glyph holes and pinholes; 0 = off"),
+    real_param<VisionParams, &VisionParams::min_area_fraction>(
+        "min_area_fraction", "", 1e-7, 0.999, kFixed,
+        "smallest marker, fraction of the frame area"),
+    real_param<VisionParams, &VisionParams::buoy_min_area_fraction>(
+        "buoy_min_area_fraction", "", 1e-7, 0.999, kFixed,
+        "smallest buoy, fraction of the frame area"),
+    real_param<VisionParams, &VisionParams::buoy_min_solidity>(
+        "buoy_min_solidity", "", 0.0, 1.0, kFixed,
+        "area / hull area a buoy needs (spray and glare are not round)"),
+    int_param<VisionParams, &VisionParams::edge_margin_px>(
+        "edge_margin_px", "px", 0, 4096, kFixed,
+        "shapes whose box comes this close to the border are cut"),
+    bool_param<VisionParams, &VisionParams::buoy_reject_edge>(
+        "buoy_reject_edge", kFixed,
+        "drop buoys cut by the border (else their bearing still counts)"),
+    bool_param<VisionParams, &VisionParams::background, &BackgroundParams::enabled>(
+        "background.enabled", kFixed, "model each strip's water or sky colour and reject it"),
+    int_param<VisionParams, &VisionParams::background, &BackgroundParams::strips>(
+        "background.strips", "", 1, BackgroundParams::kMaxStrips, kFixed,
+        "horizontal strips, each with its own model"),
+    int_param<VisionParams, &VisionParams::background, &BackgroundParams::sample_step_px>(
+        "background.sample_step_px", "px", 1, 64, kFixed, "sampling grid pitch"),
+    real_param<VisionParams, &VisionParams::background, &BackgroundParams::min_share>(
+        "background.min_share", "", 1e-3, 1.0, kFixed,
+        "share of a strip's samples the dominant colour must hold"),
+    real_param<VisionParams, &VisionParams::background, &BackgroundParams::reject_sigma>(
+        "background.reject_sigma", "", 0.0, 10.0, kFixed,
+        "Mahalanobis radius rejected around the background colour"),
+    real_param<VisionParams, &VisionParams::background, &BackgroundParams::min_sigma>(
+        "background.min_sigma", "grey levels", 0.0, 128.0, kFixed,
+        "floor of each axis' spread (flat, noiseless water)"),
+    real_param<VisionParams, &VisionParams::background, &BackgroundParams::max_sigma>(
+        "background.max_sigma", "grey levels", 0.0, 128.0, kFixed,
+        "cap of each axis' spread, so a mottled band cannot swallow the markers"),
+    int_param<VisionParams, &VisionParams::background, &BackgroundParams::max_saturation>(
+        "background.max_saturation", "", 0, 255, kFixed,
+        "a more saturated dominant colour is a marker filling the view, not water or sky"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::approx_epsilon_fraction>(
+        "shape.approx_epsilon_fraction", "", 1e-4, 0.199, kFixed,
+        "polygon approximation tolerance, fraction of the perimeter"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::convex_min_solidity>(
+        "shape.convex_min_solidity", "", 0.0, 1.0, kFixed,
+        "area / hull area for a triangle, rectangle or circle"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::cross_max_solidity>(
+        "shape.cross_max_solidity", "", 0.0, 1.0, kFixed, "a cross is at most this solid"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::cross_min_solidity>(
+        "shape.cross_min_solidity", "", 0.0, 1.0, kFixed, "a cross is at least this solid"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::cross_min_defect_depth>(
+        "shape.cross_min_defect_depth", "", 0.0, 1.0, kFixed,
+        "a cross's concavities are this deep, fraction of the square root of its area"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::triangle_max_extent>(
+        "shape.triangle_max_extent", "", 0.0, 1.0, kFixed,
+        "a triangle fills at most this share of its smallest rectangle"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::rectangle_min_extent>(
+        "shape.rectangle_min_extent", "", 0.0, 1.0, kFixed,
+        "a rectangle fills at least this share of its smallest rectangle"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::circle_min_circularity>(
+        "shape.circle_min_circularity", "", 0.0, 1.0, kFixed,
+        "a circle's 4 pi area / perimeter^2 on its hull is at least this"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::circle_max_extent>(
+        "shape.circle_max_extent", "", 0.0, 1.0, kFixed,
+        "a circle fills at most this share of its smallest rectangle"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::min_fill_ratio>(
+        "shape.min_fill_ratio", "", 0.0, 1.0, kFixed,
+        "mask pixels / outer-contour area a shape needs (rejects outline rings)"),
+    real_param<VisionParams, &VisionParams::shape, &ShapeParams::island_min_hole_fraction>(
+        "shape.island_min_hole_fraction", "", 0.0, 1.0, kFixed,
+        "a marker inside a hole of a larger blob must fill this share of the hole"),
+};
+
 // ---- mission settings ---------------------------------------------------------------------
 
 constexpr std::array kStartModes{
@@ -961,6 +1079,14 @@ std::span<const ParamSpec<perception::LidarClusterParams>> param_table() {
 template <>
 std::span<const ParamSpec<perception::MarkerVoteParams>> param_table() {
   return kVisionVote;
+}
+template <>
+std::span<const ParamSpec<perception::VisionParams>> param_table() {
+  return kVision;
+}
+template <>
+std::span<const ParamSpec<perception::ColourRange>> param_table() {
+  return kColourRange;
 }
 template <>
 std::span<const ParamSpec<MissionConfig>> param_table() {

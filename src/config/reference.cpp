@@ -206,6 +206,17 @@ json mission_schema() {
   return s;
 }
 
+json vision_schema() {
+  json s = schema_root("vision");
+  add_rows(s, param_table<perception::VisionParams>());
+  json range = object_schema();
+  add_rows(range, param_table<perception::ColourRange>());
+  range["required"] = {"colour"};
+  s["properties"]["colours"] = {
+      {"type", "array"}, {"items", range}, {"maxItems", perception::VisionParams::kMaxColours}};
+  return s;
+}
+
 // Visits every (file kind, section, table) in a fixed order.
 template <class F>
 void for_each_table(F&& f) {
@@ -218,6 +229,8 @@ void for_each_table(F&& f) {
   for_each_mission_section(mission, [&](std::string_view key, const auto& section) {
     f(std::string_view{"mission"}, key, section);
   });
+  f(std::string_view{"vision"}, std::string_view{}, perception::VisionParams{});
+  f(std::string_view{"vision"}, std::string_view{"colours[]"}, perception::ColourRange{});
 }
 
 std::string full_key(std::string_view section, std::string_view key) {
@@ -264,7 +277,9 @@ std::string parameter_reference_markdown() {
          "height_m), `course_frame.zero_heading_deg`, `course2.colours`, `planning.boundary` and "
          "`planning.no_go` (lists of corners) and `tasks` (type, "
          "name, time_limit_s, on_timeout, style, dock_heading_deg, waypoints, slips, "
-         "target_colour, target_shape); see the shipped files in config/.\n";
+         "target_colour, target_shape); a vision file's `colours` is a list of entries, one per "
+         "colour, each with the `colours[]` keys above (`colour` required); see the shipped "
+         "files in config/.\n";
   return out.str();
 }
 
@@ -300,6 +315,7 @@ std::optional<std::string> json_schema(std::string_view kind) {
   if (kind == "boat") return boat_schema().dump(2) + "\n";
   if (kind == "devices") return devices_schema().dump(2) + "\n";
   if (kind == "mission") return mission_schema().dump(2) + "\n";
+  if (kind == "vision") return vision_schema().dump(2) + "\n";
   return std::nullopt;
 }
 

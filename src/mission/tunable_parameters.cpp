@@ -41,27 +41,24 @@ void add_live_rows(std::vector<TunableSpec>& out, std::string_view section, Tuna
   }
 }
 
-// One bound of a colour's HSV range in the camera detectors' parameters.
-TunableSpec hsv(msg::Colour colour, const char* bound, double max,
-                std::uint8_t perception::HsvRange::*field) {
-  std::string name = "vision." + std::string(msg::colour_name(colour)) + "." + bound;
+// One live row of a colour's entry in the camera detectors' parameters (its HSV bounds), as
+// "vision.<colour>.<key>", with the row's bounds and words.
+TunableSpec colour_row(msg::Colour colour, const core::ParamSpec<perception::ColourRange>* spec) {
   TunableSpec t;
-  t.name = std::move(name);
+  t.name = "vision." + std::string(msg::colour_name(colour)) + "." + std::string(spec->key);
   t.group = TunableGroup::kVision;
-  t.min = 0.0;
-  t.max = max;
-  t.integer = true;
-  t.doc = "HSV box bound (OpenCV 8-bit: hue 0-179, saturation and value 0-255)";
-  t.get = [colour, field](const TunableParameters& p) {
+  t.min = spec->min;
+  t.max = spec->max;
+  t.integer = spec->type != core::ParamType::kReal;
+  t.unit = std::string(spec->unit);
+  t.doc = std::string(spec->doc);
+  t.get = [colour, spec](const TunableParameters& p) {
     const int i = p.vision.find_colour(colour);
-    return i < 0 ? std::nan("")
-                 : static_cast<double>(p.vision.colours[static_cast<std::size_t>(i)].hsv.*field);
+    return i < 0 ? std::nan("") : spec->get(p.vision.colours[static_cast<std::size_t>(i)]);
   };
-  t.set = [colour, field](TunableParameters& p, double v) {
+  t.set = [colour, spec](TunableParameters& p, double v) {
     const int i = p.vision.find_colour(colour);
-    if (i >= 0) {
-      p.vision.colours[static_cast<std::size_t>(i)].hsv.*field = static_cast<std::uint8_t>(v);
-    }
+    if (i >= 0) spec->set(p.vision.colours[static_cast<std::size_t>(i)], v);
   };
   return t;
 }
@@ -74,17 +71,13 @@ std::vector<TunableSpec> build_specs() {
   add_live_rows(s, "clustering", G::kClustering, &P::clustering);
   add_live_rows(s, "avoidance", G::kAvoidance, &P::avoidance);
   add_live_rows(s, "speed", G::kSpeed, &P::speed);
-  // Vision: the HSV box of every colour the detectors search (OpenCV 8-bit: hue 0..179,
-  // saturation and value 0..255; h_min > h_max wraps through 180, as red does).
+  // Vision: the live rows (the HSV box) of every colour the detectors search.
   const perception::VisionParams vision = perception::VisionParams::defaults();
   for (std::size_t i = 0; i < vision.colour_count; ++i) {
-    const msg::Colour c = vision.colours[i].colour;
-    s.push_back(hsv(c, "h_min", 179.0, &perception::HsvRange::h_min));
-    s.push_back(hsv(c, "h_max", 179.0, &perception::HsvRange::h_max));
-    s.push_back(hsv(c, "s_min", 255.0, &perception::HsvRange::s_min));
-    s.push_back(hsv(c, "s_max", 255.0, &perception::HsvRange::s_max));
-    s.push_back(hsv(c, "v_min", 255.0, &perception::HsvRange::v_min));
-    s.push_back(hsv(c, "v_max", 255.0, &perception::HsvRange::v_max));
+    for (const core::ParamSpec<perception::ColourRange>& row :
+         config::param_table<perception::ColourRange>()) {
+      if (row.live) s.push_back(colour_row(vision.colours[i].colour, &row));
+    }
   }
   return s;
 }

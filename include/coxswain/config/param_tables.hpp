@@ -11,6 +11,7 @@
 #include "coxswain/config/devices_config.hpp"
 #include "coxswain/config/mission_config.hpp"
 #include "coxswain/core/param_table.hpp"
+#include "coxswain/perception/vision_params.hpp"
 
 namespace coxswain::config {
 
@@ -32,6 +33,11 @@ template <>
 std::span<const core::ParamSpec<perception::LidarClusterParams>> param_table();
 template <>
 std::span<const core::ParamSpec<perception::MarkerVoteParams>> param_table();
+// The camera detectors (the vision file: the top level and each entry of its `colours` list).
+template <>
+std::span<const core::ParamSpec<perception::VisionParams>> param_table();
+template <>
+std::span<const core::ParamSpec<perception::ColourRange>> param_table();
 // Mission settings.
 template <>
 std::span<const core::ParamSpec<MissionConfig>> param_table();

@@ -29,6 +29,8 @@ void for_every_table(F&& f) {
   const MissionConfig mission{};
   for_each_mission_section(
       mission, [&](std::string_view key, const auto& s) { f("mission." + std::string(key), s); });
+  f(std::string("vision"), perception::VisionParams{});
+  f(std::string("vision.colours[]"), perception::ColourRange{});
 }
 
 TEST(ParamTables, EveryRowHasAUniqueKeyADocAndADefaultWithinItsBounds) {
@@ -48,7 +50,8 @@ TEST(ParamTables, EveryRowHasAUniqueKeyADocAndADefaultWithinItsBounds) {
         EXPECT_GE(d, row.min) << key << " default " << d;
         EXPECT_LE(d, row.max) << key << " default " << d;
       }
-      if (row.type == core::ParamType::kEnum) {
+      // A colour range's colour is required (an entry has no default colour).
+      if (row.type == core::ParamType::kEnum && key != "vision.colours[]:colour") {
         EXPECT_FALSE(row.choice_name(row.default_value()).empty()) << key;
       }
       // set(get(x)) is the identity: a value read from a file is the value the struct holds.
@@ -179,9 +182,20 @@ TEST(ParamTables, ThePrintedConfigurationLoadsBackBitForBit) {
   EXPECT_EQ(v->colour_count, c.vision.params.colour_count);
 }
 
+// A colour range without its colour is refused, naming the key.
+TEST(ParamTables, AVisionRangeWithoutItsColourIsRefused) {
+  ConfigErrors errors;
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / "coxswain_vision_no_colour.yaml";
+  { std::ofstream(file) << "kind: vision\ncolours:\n  - {h_min: 10}\n"; }
+  EXPECT_FALSE(load_vision_file(file.string(), errors).has_value());
+  std::filesystem::remove(file);
+  EXPECT_NE(errors.format().find("colour"), std::string::npos) << errors.format();
+}
+
 TEST(ParamTables, TheShippedSchemasAreTheGeneratedOnes) {
   const std::filesystem::path dir = std::filesystem::path(COXSWAIN_SOURCE_DIR) / "schemas";
-  for (const char* kind : {"boat", "devices", "mission"}) {
+  for (const char* kind : {"boat", "devices", "mission", "vision"}) {
     std::ifstream in(dir / (std::string(kind) + ".schema.json"));
     ASSERT_TRUE(in) << "schemas/" << kind << ".schema.json is missing";
     std::stringstream shipped;
@@ -207,6 +221,8 @@ TEST(ParamTables, TheReferenceNamesEveryKeyAndTheParameterListHasItsBounds) {
   EXPECT_NE(doc.find("`avoidance.score.goal_weight`"), std::string::npos);
   EXPECT_NE(doc.find("`actuators.servo.center_us`"), std::string::npos);
   EXPECT_NE(doc.find("`gnss.rtcm_input`"), std::string::npos);
+  EXPECT_NE(doc.find("`background.reject_sigma`"), std::string::npos);
+  EXPECT_NE(doc.find("`colours[].h_min`"), std::string::npos);
   const std::string json = parameters_json();
   EXPECT_NE(json.find("\"key\": \"avoidance.clearance_m\""), std::string::npos);
   EXPECT_NE(json.find("\"max\": 2.0"), std::string::npos);

@@ -227,5 +227,24 @@ TEST(MissionCoreParameters, ALowerMaximumThrustSlowsTheNextSteps) {
   EXPECT_GT(slow.thrust_frac(), 0.3);
 }
 
+// The vision file's HSV bounds are live as "vision.<colour>.<key>", with the table's bounds; the
+// colour's other keys are not.
+TEST(TunableParameters, TheVisionRangesAreTunedLiveWithTheFileTablesBounds) {
+  const TunableSpec* h = find_tunable("vision.red.h_min");
+  ASSERT_NE(h, nullptr);
+  EXPECT_EQ(h->max, 179.0);
+  EXPECT_TRUE(h->integer);
+  const TunableSpec* v = find_tunable("vision.blue.v_max");
+  ASSERT_NE(v, nullptr);
+  EXPECT_EQ(v->max, 255.0);
+  EXPECT_EQ(find_tunable("vision.red.markers"), nullptr);
+  TunableParameters p;
+  v->set(p, 200.0);
+  EXPECT_EQ(v->get(p), 200.0);
+  EXPECT_EQ(p.vision.colours[static_cast<std::size_t>(p.vision.find_colour(msg::Colour::kBlue))]
+                .hsv.v_max,
+            200);
+}
+
 }  // namespace
 }  // namespace coxswain::mission::test
