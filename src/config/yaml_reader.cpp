@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/config/yaml_reader.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
+
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <sstream>
 
 namespace coxswain::config {
 
@@ -126,6 +131,54 @@ void MapReader::finish() {
 
 namespace {
 
+// Counts a stream's documents without building them. yaml-cpp 0.7's LoadAll never returns on
+// some malformed input (a lone ',' at the top level): its parser then reports one empty document
+// after another at the same place, forever. A document that starts where the previous one did is
+// that case, and ends the count.
+class DocumentStarts final : public YAML::EventHandler {
+ public:
+  void OnDocumentStart(const YAML::Mark& mark) override { start = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& /*mark*/, YAML::anchor_t /*anchor*/) override {}
+  void OnAlias(const YAML::Mark& /*mark*/, YAML::anchor_t /*anchor*/) override {}
+  void OnScalar(const YAML::Mark& /*mark*/, const std::string& /*tag*/, YAML::anchor_t /*anchor*/,
+                const std::string& /*value*/) override {}
+  void OnSequenceStart(const YAML::Mark& /*mark*/, const std::string& /*tag*/,
+                       YAML::anchor_t /*anchor*/, YAML::EmitterStyle::value /*style*/) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& /*mark*/, const std::string& /*tag*/, YAML::anchor_t /*anchor*/,
+                  YAML::EmitterStyle::value /*style*/) override {}
+  void OnMapEnd() override {}
+  YAML::Mark start;
+};
+
+struct DocumentCount {
+  std::size_t documents = 0;
+  int second_line = -1;  // where the second document starts (0-based), -1 none
+  bool stuck = false;    // the parser stopped making progress
+  int stuck_line = -1;
+};
+
+// Throws YAML::Exception on a syntax error, as the loaders do.
+DocumentCount count_documents(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentStarts starts;
+  DocumentCount count;
+  int previous_pos = -1;
+  // Every document holds at least one character, so no stream of n bytes holds more than n + 1.
+  while (count.documents <= text.size() && parser.HandleNextDocument(starts)) {
+    if (starts.start.pos == previous_pos) {
+      count.stuck = true;
+      count.stuck_line = starts.start.line;
+      return count;
+    }
+    previous_pos = starts.start.pos;
+    if (++count.documents == 2) count.second_line = starts.start.line;
+  }
+  return count;
+}
+
 // The walk of a document: counts the values it visits (an alias each time it is used) and stops
 // at the first bound passed.
 struct DocumentWalk {
@@ -213,29 +266,36 @@ std::optional<YAML::Node> load_yaml_file(const std::string& path, ConfigErrors& 
     errors.add({path, 0, "", "cannot be opened for reading"});
     return std::nullopt;
   }
-  std::vector<YAML::Node> docs;
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  YAML::Node doc;
   try {
-    docs = YAML::LoadAll(in);
+    const DocumentCount count = count_documents(text);
+    if (count.stuck) {
+      errors.add({path, count.stuck_line + 1, "",
+                  "YAML syntax error: the parser cannot go on from here (a stray ',' or the "
+                  "like)"});
+      return std::nullopt;
+    }
+    if (count.documents > 1) {
+      errors.add({path, count.second_line + 1, "",
+                  "holds " + std::to_string(count.documents) +
+                      " YAML documents; exactly one is expected (a second '---' or '...')"});
+      return std::nullopt;
+    }
+    if (count.documents == 1) doc = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     errors.add({path, e.mark.line + 1, "", "YAML syntax error: " + e.msg});
     return std::nullopt;
   }
-  if (docs.empty() || (docs.size() == 1 && docs[0].IsNull())) {
+  if (!doc || doc.IsNull()) {
     errors.add({path, 0, "", "is empty: one YAML document (a map) is expected"});
-    return std::nullopt;
-  }
-  if (docs.size() > 1) {
-    const int line = docs[1].Mark().line;
-    errors.add({path, line >= 0 ? line + 1 : 0, "",
-                "holds " + std::to_string(docs.size()) +
-                    " YAML documents; exactly one is expected (a second '---' or '...')"});
     return std::nullopt;
   }
   const std::size_t before = errors.size();
   DocumentWalk walk;
-  check_duplicate_keys(docs[0], path, errors, 0, walk);
+  check_duplicate_keys(doc, path, errors, 0, walk);
   if (errors.size() != before) return std::nullopt;
-  return docs[0];
+  return doc;
 }
 
 }  // namespace coxswain::config

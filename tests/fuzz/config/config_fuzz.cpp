@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // libFuzzer target for every YAML loader: the input is written to a file and read as a boat,
-// devices, mission, course and simulator-sensor file, and its kind detected, through the same
-// strict loader the daemon and the simulator use. Contract: no crash, no exception escapes, and
-// a refused file always says why.
+// devices, mission, vision, course and simulator-sensor file, and its kind detected, through the
+// same strict loader the daemon and the simulator use. Contract: no crash, no exception escapes,
+// and a refused file always says why.
 #include <unistd.h>
 
 #include <cstddef>
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "coxswain/config/config.hpp"
+#include "coxswain/config/vision_config.hpp"
 #include "coxswain/config/yaml_reader.hpp"
 #ifdef COXSWAIN_FUZZ_SIM
 #include "sim/sensors/sensor_config.hpp"
@@ -54,6 +55,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
          [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_devices_config(p, e); });
     load(path,
          [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_mission_config(p, e); });
+    load(path,
+         [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_vision_file(p, e); });
 #ifdef COXSWAIN_FUZZ_SIM
     load(path, [](const std::string& p, cfg::ConfigErrors& e) {
       (void)coxswain::sim::world::load_course(p, e);
