@@ -9,22 +9,10 @@ src=$2
 source_dir=$3
 work=$4
 script=${5:-live_test.mjs}
-if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
-  echo "SKIP: node and npm are needed for the Foxglove client test (apt-get install nodejs npm)"
-  exit 77
-fi
-mkdir -p "$work/node"
+# shellcheck source=../../support/npm_clients.sh
+source "$src/../../support/npm_clients.sh"
+install_npm_clients "$src" "$work/node" @foxglove/ws-protocol "the Foxglove client test"
 cp "$src/$script" "$src/harness.mjs" "$work/node/"
-if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
-   [ ! -d "$work/node/node_modules/@foxglove/ws-protocol" ]; then
-  cp "$src/package.json" "$src/package-lock.json" "$work/node/"
-  if ! (cd "$work/node" && npm ci --no-audit --no-fund --ignore-scripts >npm.log 2>&1); then
-    cat "$work/node/npm.log" || true
-    rm -f "$work/node/package-lock.json"  # retry the install next time
-    echo "SKIP: npm ci failed (is the npm registry reachable?); cannot run the Foxglove client test"
-    exit 77
-  fi
-fi
 # The daemon's run directory holds its control socket, whose path must fit in 107 bytes; under a
 # deep build tree it did not (a clone in /tmp/tmp.XXXXXXXXXX/c with build dir build-asan-g1).
 run=$(mktemp -d "${TMPDIR:-/tmp}/coxswain-live.XXXXXX")

@@ -9,27 +9,15 @@ sim=$2
 src=$3
 work=$4
 config=$5
-if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then
-  echo "SKIP: node and npm are needed to drive the report page (apt-get install nodejs npm)"
-  exit 77
-fi
 if ! command -v chromium >/dev/null 2>&1; then
   echo "SKIP: chromium is not installed (apt-get install chromium): the report page was not driven"
   exit 77
 fi
-mkdir -p "$work/node"
+# shellcheck source=../../support/npm_clients.sh
+source "$src/../../support/npm_clients.sh"
+# Without install scripts puppeteer-core downloads no browser: it drives the system's chromium.
+install_npm_clients "$src" "$work/node" puppeteer-core "the report page test"
 cp "$src/report_page_test.mjs" "$work/node/"
-if ! cmp -s "$src/package-lock.json" "$work/node/package-lock.json" ||
-   [ ! -d "$work/node/node_modules/puppeteer-core" ]; then
-  cp "$src/package.json" "$src/package-lock.json" "$work/node/"
-  # --ignore-scripts: puppeteer-core drives the system's chromium and downloads no browser.
-  if ! (cd "$work/node" && npm ci --no-audit --no-fund --ignore-scripts >npm.log 2>&1); then
-    cat "$work/node/npm.log" || true
-    rm -f "$work/node/package-lock.json"  # retry the install next time
-    echo "SKIP: npm ci failed (is the npm registry reachable?); the report page was not driven"
-    exit 77
-  fi
-fi
 rm -rf "$work/run"
 mkdir -p "$work/run"
 status=0

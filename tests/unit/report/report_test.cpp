@@ -19,6 +19,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
+std::string read_page(const fs::path& html) {
+  std::ifstream in(html);
+  std::stringstream page;
+  page << in.rdbuf();
+  return page.str();
+}
+
 class ReportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -47,10 +54,7 @@ TEST_F(ReportTest, LiveParameterChangesAreListed) {
   std::ostringstream out;
   std::ostringstream err;
   ASSERT_EQ(run_report_command(mcap, dir_ / "retuned.html", nullptr, out, err), 0) << err.str();
-  std::ifstream in(dir_ / "retuned.html");
-  std::stringstream page;
-  page << in.rdbuf();
-  const std::string html = page.str();
+  const std::string html = read_page(dir_ / "retuned.html");
   const auto table = html.find("<table id=\"parameters\">");
   ASSERT_NE(table, std::string::npos);
   const std::string rows = html.substr(table, html.find("</table>", table) - table);
@@ -63,10 +67,7 @@ TEST_F(ReportTest, LiveParameterChangesAreListed) {
   // And a page without changes says so.
   std::ostringstream out2;
   ASSERT_EQ(run_report_command(dir_ / "run.mcap", dir_ / "plain.html", nullptr, out2, err), 0);
-  std::ifstream plain(dir_ / "plain.html");
-  std::stringstream plain_page;
-  plain_page << plain.rdbuf();
-  EXPECT_NE(plain_page.str().find("<td colspan=\"5\">none</td>"), std::string::npos);
+  EXPECT_NE(read_page(dir_ / "plain.html").find("<td colspan=\"5\">none</td>"), std::string::npos);
 }
 
 nlohmann::json page_data(const std::string& html) {
@@ -81,11 +82,8 @@ TEST_F(ReportTest, PageIsSelfContainedWithEveryPlot) {
   std::ostringstream out;
   std::ostringstream err;
   ASSERT_EQ(run_report_command(dir_ / "run.mcap", {}, nullptr, out, err), 0) << err.str();
-  std::ifstream in(dir_ / "run.html");  // the default output name
-  ASSERT_TRUE(in.good());
-  std::stringstream page;
-  page << in.rdbuf();
-  const std::string html = page.str();
+  ASSERT_TRUE(fs::exists(dir_ / "run.html"));  // the default output name
+  const std::string html = read_page(dir_ / "run.html");
   for (const char* id : kPlotIds) {
     EXPECT_NE(html.find(std::string("class=\"plot\" id=\"") + id + "\""), std::string::npos) << id;
   }
@@ -120,10 +118,7 @@ TEST_F(ReportTest, SummaryComesFirstWithDateResultAndScore) {
   std::ostringstream err;
   ASSERT_EQ(run_report_command(dir_ / "run.mcap", dir_ / "summary.html", nullptr, out, err), 0)
       << err.str();
-  std::ifstream in(dir_ / "summary.html");
-  std::stringstream page;
-  page << in.rdbuf();
-  const std::string html = page.str();
+  const std::string html = read_page(dir_ / "summary.html");
   const auto summary = html.find("<table id=\"summary\">");
   ASSERT_NE(summary, std::string::npos);
   EXPECT_LT(summary, html.find("class=\"plot\""));
