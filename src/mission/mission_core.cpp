@@ -815,6 +815,14 @@ std::string MissionCore::set_vision(const perception::VisionParams& vision) {
   return {};
 }
 
+const guidance::NavMap* MissionCore::nav_map() const {
+  return impl_->map ? &*impl_->map : nullptr;
+}
+
+const guidance::MapPlanner* MissionCore::map_planner() const {
+  return impl_->planner ? &*impl_->planner : nullptr;
+}
+
 TunableParameters MissionCore::parameters() const {
   return {impl_->m.heading_pid, impl_->m.clustering, impl_->m.avoidance, impl_->m.speed,
           impl_->vision};

@@ -226,6 +226,11 @@ class MissionCore {
   /// (VisionParams::validate(); nothing changes then).
   [[nodiscard]] std::string set_vision(const perception::VisionParams& vision);
 
+  /// The mission's lidar map and global planner as the last step left them (null when the
+  /// mission plans without a map), for viewers and tools that draw what the boat believed.
+  [[nodiscard]] const guidance::NavMap* nav_map() const;
+  [[nodiscard]] const guidance::MapPlanner* map_planner() const;
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

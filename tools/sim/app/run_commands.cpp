@@ -20,6 +20,7 @@
 
 #include "commands.hpp"
 #include "coxswain/guidance/avoidance.hpp"
+#include "map_frames.hpp"
 #include "sim/batch/batch.hpp"
 #include "sim/runner/mission_run.hpp"
 #include "sim/scoring/scorer.hpp"
@@ -141,6 +142,12 @@ void add_run_commands(CLI::App& app, int& exit_code) {
                   "write the flight recording (MCAP, as the daemon's run.mcap) to this file");
   run->add_flag("--disturbances", run_disturbances,
                 "the batch's default disturbances for this seed (reproduces a batch run)");
+  static std::string map_frames_dir;
+  static double map_frames_every_s = 1.0;
+  run->add_option("--map-frames", map_frames_dir,
+                  "draw the boat's lidar map, plan, estimate and true hull as PNG frames here");
+  run->add_option("--map-every", map_frames_every_s, "simulated seconds between map frames")
+      ->check(CLI::PositiveNumber);
   run->callback([&exit_code] {
     config::ConfigErrors errors;
     world::Course course = world::load_course_file(course_file, errors);
@@ -181,6 +188,14 @@ void add_run_commands(CLI::App& app, int& exit_code) {
         return;
       }
       options.target_shape = *s;
+    }
+    std::optional<MapFrameWriter> frames;
+    if (!map_frames_dir.empty()) {
+      frames.emplace(map_frames_dir, map_frames_every_s, course.world);
+      options.on_step = [&frames](double t_s, const runner::MissionPilot& pilot,
+                                  const core::NavPose& truth) {
+        frames->on_step(t_s, pilot, truth);
+      };
     }
     runner::MissionRunResult r;
     try {

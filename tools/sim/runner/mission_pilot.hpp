@@ -41,6 +41,7 @@ class MissionPilot final : public Pilot {
   [[nodiscard]] const std::string& parameters_error() const { return parameters_error_; }
   [[nodiscard]] mission::TunableParameters parameters() const { return core_->parameters(); }
   [[nodiscard]] const mission::CoreOutput& output() const { return *out_; }
+  [[nodiscard]] const mission::MissionCore& core() const { return *core_; }
   [[nodiscard]] const mission::MissionStatus& status() const { return out_->status; }
   [[nodiscard]] const std::vector<TransitionRecord>& transitions() const { return transitions_; }
   /// True while the current task looks through the camera (course 1, course 2, docking).

@@ -136,6 +136,7 @@ MissionRunResult run_mission(const world::Course& course, const config::Configur
   double finished_at_s = -1.0;
   while (runner.step()) {
     const double t = core::ns_to_sec(runner.now_ns());
+    if (options.on_step) options.on_step(t, pilot, runner.truth().pose);
     if (pilot.status().finished) {
       if (finished_at_s < 0.0) finished_at_s = t;
       if (t - finished_at_s >= options.finished_grace_s) {

@@ -5,6 +5,7 @@
 // `coxswain-sim batch`, the scenario tests and the benchmark share. Pure apart from allocation:
 // no I/O, no clock; one call per thread (the Course may be shared read-only between threads).
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ struct MissionRunOptions {
   /// Once the mission declares itself finished the boat has stopped sailing: the run ends this
   /// long after (what it coasts counts), and the judge settles the score there.
   double finished_grace_s = 5.0;
+  /// Called after every tick with the simulated time, the pilot (its core's map and planner)
+  /// and the hull's true pose: for tools that draw what the boat believed against the truth.
+  std::function<void(double t_s, const MissionPilot& pilot, const core::NavPose& truth)> on_step;
 };
 
 struct MissionRunResult {
