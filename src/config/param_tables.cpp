@@ -756,6 +756,9 @@ constexpr std::array kPlanning{
         "map.max_range_m", "m", 0.5, 100.0, kFixed, "beams clear and mark only this far"),
     real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::min_range_m>(
         "map.min_range_m", "m", 0.0, 10.0, kFixed, "nearer returns are the hull or spray"),
+    bool_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::no_return_clears>(
+        "map.no_return_clears", kFixed,
+        "a beam with no return clears its whole length (open water reflects nothing)"),
     bool_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::enabled>(
         "planner.enabled", kFixed,
         "plan a global path on the map; the reactive avoidance steers to its sub-goal"),
@@ -764,6 +767,25 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::clearance_m>(
         "planner.clearance_m", "m", 0.0, 3.0, kFixed,
         "obstacles are inflated by the avoidance's half beam plus this"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::soft_clearance_m>(
+        "planner.soft_clearance_m", "m", 0.0, 10.0, kFixed,
+        "beyond the inflation, a band this wide where a path pays to come near an obstacle"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::clearance_cost>(
+        "planner.clearance_cost", "", 0.0, 15.0, kFixed,
+        "extra cost per metre at the inflation's edge, falling off as a square across the band"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::unknown_cost>(
+        "planner.unknown_cost", "", 0.0, 15.0, kFixed,
+        "extra cost per metre of water the lidar has never seen"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::goal_fade_m>(
+        "planner.goal_fade_m", "m", 0.0, 50.0, kFixed,
+        "within this of the goal the clearance and unknown costs fade out toward it"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::sight_full_speed_m>(
+        "planner.sight_full_speed_m", "m", 0.0, 100.0, kFixed,
+        "full speed only while the path ahead runs this far through water the lidar has seen "
+        "(0: no limit)"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::sight_min_speed_factor>(
+        "planner.sight_min_speed_factor", "", 0.01, 1.0, kFixed,
+        "speed factor with the unseen right ahead (it rises in proportion to the seen run)"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::lookahead_m>(
         "planner.lookahead_m", "m", 0.1, 50.0, kFixed, "the sub-goal's distance along the path"),
     int_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::max_expansions>(

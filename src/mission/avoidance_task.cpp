@@ -92,6 +92,7 @@ class AvoidanceTask final : public AvoidingTask {
     const bool moving_on = watch_progress(ctx);
     const core::NavPoint goal = steering_goal(ctx);
     core::NavPoint aim = goal;
+    double sight = 1.0;
     // The last metres through a gate are the avoidance's: the inflated buoys leave the planner
     // a passage only a cell or two wide.
     const bool in_gate_mouth = judge_gates_ && gate_.seen && gate_side(gate_, ctx.antenna) < 0.0 &&
@@ -105,11 +106,13 @@ class AvoidanceTask final : public AvoidingTask {
       }
       if (!off_map_) {
         if (const auto sg = ctx.planner->subgoal(ctx.antenna)) aim = *sg;
+        sight = sight_factor(ctx);
       }
     }
     if (!moving_on) return unstick(ctx, aim, out);
     fill_viz(ctx, goal);
     steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    out.speed_factor *= sight;
     return TaskResult::kRunning;
   }
 
@@ -430,6 +433,13 @@ class AvoidanceTask final : public AvoidingTask {
       set_phase("no_path", reason_printf("no path to the goal (%s): stop, back off, look",
                                          guidance::to_string(st)));
     }
+  }
+
+  /// Never outrun the lidar: the speed falls as the planned path nears water not yet seen.
+  [[nodiscard]] double sight_factor(const TaskContext& ctx) const {
+    if (!(plan_.sight_full_speed_m > 0.0)) return 1.0;
+    const double seen = ctx.planner->seen_ahead_m(*ctx.map, ctx.antenna, plan_.sight_full_speed_m);
+    return std::max(plan_.sight_min_speed_factor, seen / plan_.sight_full_speed_m);
   }
 
   /// Follows the boat's progress; false while it is stuck (moved less than stuck_distance_m in

@@ -51,6 +51,10 @@ struct GridView {
   // it, a boat starting inside the inflation escapes only by moving no deeper, so it backs away
   // from a wall but never threads the gap between two buoys it lies beside.
   const std::uint8_t* depth = nullptr;
+  // Extra cost of entering each cell, in sixteenths of its length (0 none), or none: a step into
+  // cell k costs its length times (1 + cost[k] / 16), so paths keep off obstacles where there
+  // is room and prefer water they have seen.
+  const std::uint8_t* cost = nullptr;
 
   [[nodiscard]] std::optional<GridCell> cell_of(core::NavPoint p) const;
   [[nodiscard]] core::NavPoint center_of(GridCell c) const;

@@ -35,7 +35,11 @@ struct NavMapParams {
   float max_log_odds = 3.5F;       //   after a few hits, and the other way round
   float occupied_log_odds = 0.6F;  // at or above: an obstacle
   double max_range_m = 12.0;       // beams clear and mark only this far
-  double min_range_m = 0.15;       // nearer returns are the hull or spray
+  double min_range_m =
+      0.8;  // nearer returns are the hull, spray or wake: the avoidance's, not the map's
+  // A beam with no return (open water reflects nothing back) clears its whole length; off, only
+  // beams that end on something clear, and open water stays unseen.
+  bool no_return_clears = true;
 
   static constexpr std::size_t kMaxCells = 1U << 20;
   [[nodiscard]] std::optional<std::string> validate() const;
@@ -43,9 +47,22 @@ struct NavMapParams {
 
 /// The global planner's rules. Distances in metres.
 struct MapPlannerParams {
-  bool enabled = true;                   // false: the tasks steer straight at the goal as before
-  double replan_period_s = 0.25;         // replan at most this often (and when the goal changes)
-  double clearance_m = 0.2;              // inflation = the avoidance's half beam + this
+  bool enabled = true;            // false: the tasks steer straight at the goal as before
+  double replan_period_s = 0.25;  // replan at most this often (and when the goal changes)
+  double clearance_m = 0.2;       // inflation = the avoidance's half beam + this
+  // Beyond the inflation a band this wide where a path pays to come near an obstacle, up to
+  // clearance_cost times its length at the inflation's edge (falling off as a square), so the
+  // path keeps to the middle of a passage when there is room and still takes a narrow one.
+  double soft_clearance_m = 1.5;
+  double clearance_cost = 4.0;
+  double unknown_cost = 0.0;  // extra cost per metre of water the lidar has never seen
+  // Within this of the goal both costs fade out toward it: a goal in a gate or a slip is as near
+  // its obstacles as it is, and the path must be free to reach it there.
+  double goal_fade_m = 4.0;
+  // Never outrun the lidar: full speed only while the path ahead runs this far through water
+  // already seen; nearer the unseen, the speed falls in proportion, down to the floor.
+  double sight_full_speed_m = 8.0;
+  double sight_min_speed_factor = 0.4;
   double lookahead_m = 3.0;              // the sub-goal's distance along the path
   std::uint32_t max_expansions = 60000;  // A* budget per plan (bounds its time)
   double goal_search_m = 1.5;            // a blocked goal moves to the nearest free cell this near
@@ -131,8 +148,10 @@ class NavMap {
   }
 
  private:
-  void trace(int r0, int c0, int r1, int c1, bool hit);
   void set_log_odds(std::size_t k, float v);
+  void build_sweep();
+  /// The shortest beam among the bins [lo, lo + span) of this scan's range table.
+  [[nodiscard]] float shortest_beam(std::uint32_t lo, std::uint32_t span) const;
 
   NavMapParams params_;
   core::NavPoint origin_;
@@ -142,11 +161,27 @@ class NavMap {
   std::vector<std::uint8_t> known_;
   std::vector<std::uint32_t> hit_stamp_;  // scan number of the last hit in each cell
   std::uint32_t scan_number_ = 0;
-  struct CellIndex {
-    int r;
-    int c;
+  // Free space is cleared cell by cell rather than beam by beam: a cell is passed when every
+  // beam across it reaches beyond its far corner, so a beam grazing a buoy through the gap
+  // beside it never clears the buoy's cells, and a cell takes one miss per scan however many
+  // beams cross it. Each cell within range is listed once per position of the boat in its own
+  // cell (kSubCells x kSubCells of them): offset, the bearing bins it spans, the distance to its
+  // far corner, nearest first.
+  static constexpr int kSubCells = 4;
+  static constexpr std::uint32_t kBins = 1024;  // bearing bins of the range table, north = 0
+  struct SweepCell {
+    std::int16_t dr;
+    std::int16_t dc;
+    std::uint16_t bin_lo;
+    std::uint16_t span;  // bins, >= 1
+    float far_m;         // distance from the boat to the cell's far corner
   };
-  std::vector<CellIndex> beam_ends_;  // this scan's beam ends (scratch, one per return)
+  std::vector<SweepCell> sweep_cells_;
+  std::vector<std::size_t> sweep_start_;  // kSubCells^2 + 1 offsets into sweep_cells_
+  // This scan's shortest range per bin (no beam: 0), then levels of minima over 2^l bins for
+  // O(1) spans (a sparse table), each level 2 * kBins long so spans need not wrap.
+  std::vector<float> range_levels_;
+  std::uint32_t levels_ = 1;
   // Occupied lidar cells as an unordered set (list + position), so inflation visits only them.
   std::vector<std::uint32_t> occupied_list_;
   std::vector<std::int32_t> occupied_pos_;
@@ -165,8 +200,13 @@ class MapPlanner {
   /// goal_search_m).
   PlanStatus plan(const NavMap& map, core::NavPoint start, core::NavPoint goal);
   [[nodiscard]] PlanStatus status() const { return status_; }
-  [[nodiscard]] const std::vector<core::NavPoint>& path() const { return astar_.path(); }
+  /// The last successful plan's path (empty after a failure).
+  [[nodiscard]] const std::vector<core::NavPoint>& path() const { return path_; }
   [[nodiscard]] std::size_t expanded() const { return astar_.expanded(); }
+  /// How far the path runs through water the lidar has seen, from the point of it nearest
+  /// `position` (capped at `limit_m`; a path ending before that in seen water gives the cap).
+  [[nodiscard]] double seen_ahead_m(const NavMap& map, core::NavPoint position,
+                                    double limit_m) const;
   /// The point `lookahead_m` along the path past the point of it nearest `position`.
   [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position) const;
   [[nodiscard]] GridView view() const;
@@ -176,22 +216,44 @@ class MapPlanner {
   struct Offset {
     int dr;
     int dc;
-    std::uint8_t depth;  // how far inside the inflation radius, 1..254 (see GridView::depth)
   };
   void inflate(const NavMap& map);
+  /// Scales the costs down toward the goal (goal_fade_m).
+  void fade_near(core::NavPoint goal);
+  /// Spreads each cell's nearest obstacle (site) to its neighbours from the `queued` cells at
+  /// the front of queue_, as far as the soft band reaches (squared cell distances).
+  void spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint32_t>& site,
+              std::size_t queued);
+  /// Whether the straight line from `a` to `b` stays where a boat at `a` may go: free cells, or
+  /// inflated ones no deeper than a's own (leaving the inflation it starts in).
+  [[nodiscard]] bool line_clear(core::NavPoint a, core::NavPoint b) const;
+  /// The segment of path_ (index of its first point) nearest `position`, and that point.
+  std::size_t nearest_on_path(core::NavPoint position, core::NavPoint& nearest) const;
 
   MapPlannerParams params_;
   double resolution_m_;
   core::NavPoint origin_;
   std::uint32_t rows_;
   std::uint32_t cols_;
-  std::vector<CellState> known_state_;  // the known layer inflated once
+  // Squared distance (cells) to the nearest obstacle cell and that cell, for the known layer
+  // (computed once) and for the known layer plus the lidar's (each plan); kFar beyond the band.
+  std::vector<std::uint32_t> known_dist2_;
+  std::vector<std::uint32_t> known_site_;
+  std::vector<std::uint32_t> dist2_;
+  std::vector<std::uint32_t> site_;
+  std::vector<std::uint32_t> queue_;  // the spread's FIFO ring
   std::vector<CellState> state_;
-  std::vector<std::uint8_t> known_depth_;
   std::vector<std::uint8_t> depth_;
-  std::vector<Offset> stencil_;
+  std::vector<std::uint8_t> cost_;
+  // By squared cell distance up to the band's edge: inflation depth (0 outside the inflation)
+  // and soft cost (sixteenths, see GridView::cost).
+  std::vector<std::uint8_t> depth_by_dist2_;
+  std::vector<std::uint8_t> cost_by_dist2_;
+  std::uint8_t unknown_cost_ = 0;
+  std::uint32_t band_dist2_ = 0;
   std::vector<Offset> goal_ring_;  // offsets within goal_search_m, nearest first
   AStarPlanner astar_;
+  std::vector<core::NavPoint> path_;  // capacity reserved once: assignments never allocate
   PlanStatus status_ = PlanStatus::kNoPath;
 };
 

@@ -13,6 +13,7 @@ constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr float kSqrt2 = 1.41421356F;
 constexpr std::int32_t kNotInHeap = -1;
 constexpr std::int32_t kClosed = -2;
+constexpr float kCostUnit = 1.0F / 16.0F;  // GridView::cost is in sixteenths
 
 // Octile distance in cells: exact for 8-connected moves on a free grid, so admissible.
 float octile(std::uint32_t r0, std::uint32_t c0, std::uint32_t r1, std::uint32_t c1) {
@@ -262,6 +263,9 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
                grid.depth[from];
   };
 
+  const auto nb_index = [&](std::int64_t r, std::int64_t c) {
+    return static_cast<std::uint32_t>(r * cols_ + c);
+  };
   bool found = false;
   while (heap_size_ > 0) {
     if (expanded_ >= max_expanded) return PlanStatus::kBudget;
@@ -283,9 +287,13 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
         if (dr != 0 && dc != 0 && (!passable(cur, r + dr, c) || !passable(cur, r, c + dc))) {
           continue;
         }
-        const auto nb = static_cast<std::uint32_t>(nr * cols_ + nc);
+        const auto nb = nb_index(nr, nc);
         if (heap_pos_[nb] == kClosed) continue;
-        const float cand = g_[cur] + (dr != 0 && dc != 0 ? kSqrt2 : 1.0F);
+        float step = dr != 0 && dc != 0 ? kSqrt2 : 1.0F;
+        if (grid.cost != nullptr) {
+          step *= 1.0F + static_cast<float>(grid.cost[nb]) * kCostUnit;
+        }
+        const float cand = g_[cur] + step;
         if (!(cand < g_[nb])) continue;
         g_[nb] = cand;
         parent_[nb] = cur;

@@ -12,6 +12,7 @@
 namespace coxswain::guidance {
 namespace {
 constexpr std::uint8_t kDeepest = 255;  // an occupied cell's inflation depth
+constexpr std::uint32_t kFar = std::numeric_limits<std::uint32_t>::max();  // beyond the band
 
 bool finite_pos(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_nonneg(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -40,6 +41,20 @@ std::optional<std::string> NavMapParams::validate() const {
 std::optional<std::string> MapPlannerParams::validate() const {
   if (!finite_pos(replan_period_s)) return "planner: replan_period_s > 0";
   if (!finite_nonneg(clearance_m) || clearance_m > 3.0) return "planner: clearance_m in [0, 3]";
+  if (!finite_nonneg(soft_clearance_m) || soft_clearance_m > 10.0) {
+    return "planner: soft_clearance_m in [0, 10]";
+  }
+  if (!finite_nonneg(goal_fade_m) || goal_fade_m > 50.0) return "planner: goal_fade_m in [0, 50]";
+  if (!finite_nonneg(sight_full_speed_m) || sight_full_speed_m > 100.0) {
+    return "planner: sight_full_speed_m in [0, 100]";
+  }
+  if (!(sight_min_speed_factor > 0.0 && sight_min_speed_factor <= 1.0)) {
+    return "planner: sight_min_speed_factor in (0, 1]";
+  }
+  if (!finite_nonneg(clearance_cost) || clearance_cost > 15.0 || !finite_nonneg(unknown_cost) ||
+      unknown_cost > 15.0) {
+    return "planner: clearance_cost and unknown_cost in [0, 15]";
+  }
   if (!finite_pos(lookahead_m)) return "planner: lookahead_m > 0";
   if (max_expansions == 0) return "planner: max_expansions > 0";
   if (!finite_nonneg(goal_search_m) || goal_search_m > 5.0) {
@@ -151,7 +166,7 @@ NavMap::NavMap(const NavMapParams& params, std::span<const core::NavPoint> bound
   log_odds_.assign(n, 0.0F);
   known_.assign(n, 0);
   hit_stamp_.assign(n, 0);
-  beam_ends_.assign(msg::LidarScan::kMaxPoints, {0, 0});
+  build_sweep();
   occupied_list_.assign(n, 0);
   occupied_pos_.assign(n, -1);
   for (std::uint32_t r = 0; r < rows_; ++r) {
@@ -202,41 +217,57 @@ void NavMap::set_log_odds(std::size_t k, float v) {
   }
 }
 
-// Bresenham from (r0, c0) to (r1, c1) in cell coordinates, which may lie outside the grid (those
-// cells are skipped). Every cell before the last is passed through (a miss unless a beam ended in
-// it this scan); the last is a hit when `hit`, else passed through as well.
-void NavMap::trace(int r0, int c0, int r1, int c1, bool hit) {
-  const int dr = std::abs(r1 - r0);
-  const int dc = std::abs(c1 - c0);
-  const int sr = r0 < r1 ? 1 : -1;
-  const int sc = c0 < c1 ? 1 : -1;
-  int err = dc - dr;
-  int r = r0;
-  int c = c0;
-  const auto rows = static_cast<int>(rows_);
-  const auto cols = static_cast<int>(cols_);
-  for (;;) {
-    const bool last = r == r1 && c == c1;
-    if (r >= 0 && c >= 0 && r < rows && c < cols) {
-      const auto k = static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c);
-      if (last && hit) {
-        set_log_odds(k, log_odds_[k] + params_.hit_log_odds);
-      } else if (log_odds_[k] > params_.min_log_odds && hit_stamp_[k] != scan_number_) {
-        // Cells near the boat are passed by most beams: those already clamped free cost nothing.
-        set_log_odds(k, log_odds_[k] + params_.miss_log_odds);
+void NavMap::build_sweep() {
+  const double res = params_.resolution_m;
+  const double half_diag = res * std::sqrt(0.5);
+  const double bin_rad = 2.0 * core::kPi / kBins;
+  // Cells nearer than min_range_m (or a cell and a half) are left to the avoidance: their beams
+  // are dropped, and they span too many bins to say anything.
+  const double nearest = std::max(params_.min_range_m, 1.5 * res);
+  const int n = static_cast<int>(std::ceil(params_.max_range_m / res)) + 1;
+  std::uint32_t widest = 1;
+  sweep_start_.assign(kSubCells * kSubCells + 1, 0);
+  for (int si = 0; si < kSubCells; ++si) {
+    for (int sj = 0; sj < kSubCells; ++sj) {
+      const double bn = (si + 0.5) / kSubCells;  // the boat within its cell, in cells
+      const double be = (sj + 0.5) / kSubCells;
+      const std::size_t first = sweep_cells_.size();
+      for (int dr = -n; dr <= n; ++dr) {
+        for (int dc = -n; dc <= n; ++dc) {
+          const double north = (dr + 0.5 - bn) * res;
+          const double east = (dc + 0.5 - be) * res;
+          const double d = std::hypot(north, east);
+          if (d < nearest || d + half_diag > params_.max_range_m) continue;
+          double bearing = std::atan2(east, north);
+          if (bearing < 0.0) bearing += 2.0 * core::kPi;
+          const double half = std::asin(std::min(1.0, half_diag / d));
+          const auto lo = static_cast<std::int64_t>(std::floor((bearing - half) / bin_rad));
+          const auto hi = static_cast<std::int64_t>(std::floor((bearing + half) / bin_rad));
+          const auto span = static_cast<std::uint32_t>(hi - lo + 1);
+          widest = std::max(widest, span);
+          const auto wrapped = static_cast<std::uint32_t>((lo % kBins + kBins) % kBins);
+          sweep_cells_.push_back({static_cast<std::int16_t>(dr), static_cast<std::int16_t>(dc),
+                                  static_cast<std::uint16_t>(wrapped),
+                                  static_cast<std::uint16_t>(span),
+                                  static_cast<float>(d + half_diag)});
+        }
       }
-    }
-    if (last) break;
-    const int e2 = 2 * err;
-    if (e2 > -dr) {
-      err -= dr;
-      c += sc;
-    }
-    if (e2 < dc) {
-      err += dc;
-      r += sr;
+      std::stable_sort(sweep_cells_.begin() + static_cast<std::ptrdiff_t>(first),
+                       sweep_cells_.end(),
+                       [](const SweepCell& a, const SweepCell& b) { return a.far_m < b.far_m; });
+      sweep_start_[static_cast<std::size_t>(si * kSubCells + sj) + 1] = sweep_cells_.size();
     }
   }
+  levels_ = 1;
+  while ((2U << (levels_ - 1)) <= widest) ++levels_;
+  range_levels_.assign(static_cast<std::size_t>(levels_) * 2 * kBins, 0.0F);
+}
+
+float NavMap::shortest_beam(std::uint32_t lo, std::uint32_t span) const {
+  std::uint32_t level = 0;
+  while ((2U << level) <= span) ++level;
+  const float* row = range_levels_.data() + static_cast<std::size_t>(level) * 2 * kBins;
+  return std::min(row[lo], row[lo + span - (1U << level)]);
 }
 
 void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
@@ -250,7 +281,8 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
   const double res = params_.resolution_m;
   const double fr0 = (pose.position.north_m - origin_.north_m) / res;
   const double fc0 = (pose.position.east_m - origin_.east_m) / res;
-  if (!std::isfinite(fr0) || !std::isfinite(fc0) || std::abs(fr0) > 1e6 || std::abs(fc0) > 1e6) {
+  if (!std::isfinite(fr0) || !std::isfinite(fc0) || std::abs(fr0) > 1e6 || std::abs(fc0) > 1e6 ||
+      !std::isfinite(pose.heading_deg)) {
     return;
   }
   const auto r0 = static_cast<int>(std::floor(fr0));
@@ -259,31 +291,31 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
   const double max_range =
       scan.max_range_m > 0.0F ? std::min(params_.max_range_m, static_cast<double>(scan.max_range_m))
                               : params_.max_range_m;
-  // Where a beam ends, or nothing when it is to be skipped.
-  const auto end_of = [&](const msg::LidarPoint& p, bool& hit, int& r1, int& c1) {
-    const double range = static_cast<double>(p.range_m);
-    if (!(range > params_.min_range_m) || !std::isfinite(range)) return false;
-    const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
-    const double fwd = range * std::cos(b);
-    const double stb = range * std::sin(b);
-    if (hull.contains(fwd, stb)) return false;
-    hit = range <= max_range;
-    const double reach = hit ? range : max_range;
-    const double a = h + b;
-    r1 = static_cast<int>(std::floor(fr0 + reach * std::cos(a) / res));
-    c1 = static_cast<int>(std::floor(fc0 + reach * std::sin(a) / res));
-    return true;
-  };
-  // Hits first, so a beam grazing a buoy does not clear the cell another beam ended in. The ends
-  // are worked out once (trigonometry is most of the cost) and kept for the second pass.
-  std::size_t beams = 0;
+  const double bins_per_rad = kBins / (2.0 * core::kPi);
+  float* ranges = range_levels_.data();
+  std::fill(ranges, ranges + kBins, -1.0F);  // -1: no beam in this bin
+  bool any = false;
   for (std::uint32_t i = 0; i < n; ++i) {
-    bool hit = false;
-    int r1 = 0;
-    int c1 = 0;
-    if (!end_of(scan.points[i], hit, r1, c1)) continue;
-    if (r1 != r0 || c1 != c0) beam_ends_[beams++] = {r1, c1};
+    const msg::LidarPoint& p = scan.points[i];
+    const bool no_return = p.range_m == 0.0F;
+    const double range = no_return ? max_range + 1.0 : static_cast<double>(p.range_m);
+    if (no_return && !params_.no_return_clears) continue;
+    if (!(range > params_.min_range_m) || !std::isfinite(range)) continue;
+    const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
+    const double cb = std::cos(b);
+    const double sb = std::sin(b);
+    if (hull.contains(range * cb, range * sb)) continue;
+    const double a = h + b;
+    const bool hit = range <= max_range;
+    const auto reach = static_cast<float>(hit ? range : max_range);
+    auto bin = static_cast<std::int64_t>(std::floor(a * bins_per_rad)) % kBins;
+    if (bin < 0) bin += kBins;
+    float& slot = ranges[bin];
+    slot = slot < 0.0F ? reach : std::min(slot, reach);
+    any = true;
     if (!hit) continue;
+    const auto r1 = static_cast<int>(std::floor(fr0 + range * std::cos(a) / res));
+    const auto c1 = static_cast<int>(std::floor(fc0 + range * std::sin(a) / res));
     if (r1 < 0 || c1 < 0 || r1 >= static_cast<int>(rows_) || c1 >= static_cast<int>(cols_)) {
       continue;
     }
@@ -292,8 +324,56 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     hit_stamp_[k] = scan_number_;
     set_log_odds(k, log_odds_[k] + params_.hit_log_odds);
   }
-  // The hit cells were raised above; trace the cells before them as misses.
-  for (std::size_t i = 0; i < beams; ++i) trace(r0, c0, beam_ends_[i].r, beam_ends_[i].c, false);
+  if (!any) return;
+  // A bin between beams takes the shorter of the beams either side (the scanner's step may be
+  // coarser than the bins); then the table is doubled so a span never wraps.
+  std::uint32_t first = 0;
+  while (ranges[first] < 0.0F) ++first;
+  float last = ranges[first];
+  for (std::uint32_t i = 1; i <= kBins; ++i) {
+    const std::uint32_t b = (first + i) % kBins;
+    if (ranges[b] < 0.0F) {
+      ranges[b] = -2.0F - last;  // remembered, made whole on the way back
+    } else {
+      last = ranges[b];
+    }
+  }
+  last = ranges[first];
+  for (std::uint32_t i = 1; i <= kBins; ++i) {
+    const std::uint32_t b = (first + kBins - i) % kBins;
+    if (ranges[b] <= -2.0F) {
+      ranges[b] = std::min(-2.0F - ranges[b], last);
+    } else {
+      last = ranges[b];
+    }
+  }
+  std::copy(ranges, ranges + kBins, ranges + kBins);
+  for (std::uint32_t l = 1; l < levels_; ++l) {
+    const float* below = range_levels_.data() + static_cast<std::size_t>(l - 1) * 2 * kBins;
+    float* row = range_levels_.data() + static_cast<std::size_t>(l) * 2 * kBins;
+    const std::uint32_t half = 1U << (l - 1);
+    for (std::uint32_t i = 0; i + half < 2 * kBins; ++i)
+      row[i] = std::min(below[i], below[i + half]);
+  }
+  // Every cell within range whose beams all reach past it is passed.
+  const auto si = std::clamp(static_cast<int>((fr0 - r0) * kSubCells), 0, kSubCells - 1);
+  const auto sj = std::clamp(static_cast<int>((fc0 - c0) * kSubCells), 0, kSubCells - 1);
+  const std::size_t sub = static_cast<std::size_t>(si * kSubCells + sj);
+  const auto rows = static_cast<int>(rows_);
+  const auto cols = static_cast<int>(cols_);
+  const auto limit = static_cast<float>(max_range);
+  for (std::size_t e = sweep_start_[sub]; e < sweep_start_[sub + 1]; ++e) {
+    const SweepCell& cell = sweep_cells_[e];
+    if (cell.far_m > limit) break;
+    const int r = r0 + cell.dr;
+    const int c = c0 + cell.dc;
+    if (r < 0 || c < 0 || r >= rows || c >= cols) continue;
+    const auto k = static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c);
+    if (!(log_odds_[k] > params_.min_log_odds) || hit_stamp_[k] == scan_number_) continue;
+    if (shortest_beam(cell.bin_lo, cell.span) > cell.far_m) {
+      set_log_odds(k, log_odds_[k] + params_.miss_log_odds);
+    }
+  }
 }
 
 MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double half_beam_m)
@@ -302,86 +382,164 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       origin_(map.origin()),
       rows_(map.rows()),
       cols_(map.cols()),
-      known_state_(static_cast<std::size_t>(rows_) * cols_, CellState::kFree),
-      state_(known_state_.size(), CellState::kFree),
-      known_depth_(known_state_.size(), 0),
-      depth_(known_state_.size(), 0),
+      known_dist2_(static_cast<std::size_t>(rows_) * cols_, kFar),
+      known_site_(known_dist2_.size(), 0),
+      dist2_(known_dist2_.size(), kFar),
+      site_(known_dist2_.size(), 0),
+      queue_(2 * known_dist2_.size() + 16, 0),
+      state_(known_dist2_.size(), CellState::kFree),
+      depth_(known_dist2_.size(), 0),
+      cost_(known_dist2_.size(), 0),
       astar_(rows_, cols_) {
+  path_.reserve(known_dist2_.size() + 2);
   if (auto e = params.validate()) throw std::invalid_argument(*e);
   if (!std::isfinite(half_beam_m) || half_beam_m < 0.0) {
     throw std::invalid_argument("planner: half beam must be >= 0");
   }
   // An obstacle may sit anywhere in its cell, so reach half a cell further than the radius.
   const double reach = (half_beam_m + params.clearance_m) / resolution_m_ + 0.5;
-  const int n = static_cast<int>(std::ceil(reach));
-  for (int dr = -n; dr <= n; ++dr) {
-    for (int dc = -n; dc <= n; ++dc) {
-      const double d = std::hypot(dr, dc);
-      if ((dr != 0 || dc != 0) && d <= reach) {
-        const double deep = std::clamp(1.0 + (reach - d) * 16.0, 1.0, 254.0);
-        stencil_.push_back({dr, dc, static_cast<std::uint8_t>(deep)});
-      }
+  const double band = reach + params.soft_clearance_m / resolution_m_;
+  band_dist2_ = static_cast<std::uint32_t>(std::floor(band * band));
+  depth_by_dist2_.assign(band_dist2_ + 1, 0);
+  cost_by_dist2_.assign(band_dist2_ + 1, 0);
+  for (std::uint32_t d2 = 1; d2 <= band_dist2_; ++d2) {
+    const double d = std::sqrt(static_cast<double>(d2));
+    if (d <= reach) {
+      depth_by_dist2_[d2] =
+          static_cast<std::uint8_t>(std::clamp(1.0 + (reach - d) * 16.0, 1.0, 254.0));
+    } else if (params.soft_clearance_m > 0.0) {
+      const double f = (band - d) / (band - reach);
+      cost_by_dist2_[d2] = static_cast<std::uint8_t>(
+          std::clamp(std::lround(params.clearance_cost * 16.0 * f * f), 0L, 255L));
     }
   }
+  unknown_cost_ =
+      static_cast<std::uint8_t>(std::clamp(std::lround(params.unknown_cost * 16.0), 0L, 255L));
   const int g = static_cast<int>(std::ceil(params.goal_search_m / resolution_m_));
   for (int dr = -g; dr <= g; ++dr) {
     for (int dc = -g; dc <= g; ++dc) {
       if (std::hypot(dr, dc) <= params.goal_search_m / resolution_m_)
-        goal_ring_.push_back({dr, dc, 0});
+        goal_ring_.push_back({dr, dc});
     }
   }
   std::stable_sort(goal_ring_.begin(), goal_ring_.end(), [](Offset a, Offset b) {
     return a.dr * a.dr + a.dc * a.dc < b.dr * b.dr + b.dc * b.dc;
   });
-  // The known layer never changes: inflate it once. Cells whose four neighbours are all known
-  // are interior and cannot inflate anything their neighbours do not.
+  // The known layer never changes: its distances are worked out once. Cells whose four
+  // neighbours are all known are interior: nothing outside is nearer to them than to an edge.
   const auto rows = static_cast<int>(rows_);
   const auto cols = static_cast<int>(cols_);
   const auto known = [&](int r, int c) {
     return r < 0 || c < 0 || r >= rows || c >= cols ||
            map.known(static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c));
   };
+  std::size_t queued = 0;
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       if (!known(r, c)) continue;
-      known_state_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)] =
-          CellState::kOccupied;
-      known_depth_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)] = kDeepest;
+      const std::size_t k = static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c);
+      known_dist2_[k] = 0;
+      known_site_[k] = static_cast<std::uint32_t>(k);
       if (known(r - 1, c) && known(r + 1, c) && known(r, c - 1) && known(r, c + 1)) continue;
-      for (const Offset& o : stencil_) {
-        const int rr = r + o.dr;
-        const int cc = c + o.dc;
-        if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-        const std::size_t kk = static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc);
-        if (known_state_[kk] == CellState::kFree) known_state_[kk] = CellState::kInflated;
-        known_depth_[kk] = std::max(known_depth_[kk], o.depth);
-      }
+      queue_[queued++] = static_cast<std::uint32_t>(k);
+    }
+  }
+  spread(known_dist2_, known_site_, queued);
+}
+
+void MapPlanner::fade_near(core::NavPoint goal) {
+  const GridView v = view();
+  const auto gc = v.cell_of(goal);
+  if (!gc || !(params_.goal_fade_m > 0.0)) return;
+  const double radius = params_.goal_fade_m / resolution_m_;
+  const int n = static_cast<int>(std::ceil(radius));
+  const auto rows = static_cast<int>(rows_);
+  const auto cols = static_cast<int>(cols_);
+  for (int dr = -n; dr <= n; ++dr) {
+    const int r = static_cast<int>(gc->row) + dr;
+    if (r < 0 || r >= rows) continue;
+    for (int dc = -n; dc <= n; ++dc) {
+      const int c = static_cast<int>(gc->col) + dc;
+      if (c < 0 || c >= cols) continue;
+      const double f = std::hypot(dr, dc) / radius;
+      if (f >= 1.0) continue;
+      std::uint8_t& cost = cost_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)];
+      cost = static_cast<std::uint8_t>(std::lround(cost * f));
     }
   }
 }
 
 GridView MapPlanner::view() const {
-  return {rows_, cols_, resolution_m_, origin_, state_.data(), depth_.data()};
+  return {rows_, cols_, resolution_m_, origin_, state_.data(), depth_.data(), cost_.data()};
+}
+
+void MapPlanner::spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint32_t>& site,
+                        std::size_t queued) {
+  const std::size_t cap = queue_.size();
+  std::size_t head = 0;
+  std::size_t tail = queued % cap;
+  std::size_t count = queued;
+  const auto rows = static_cast<int>(rows_);
+  const auto cols = static_cast<int>(cols_);
+  while (count > 0) {
+    const std::uint32_t cur = queue_[head];
+    head = head + 1 == cap ? 0 : head + 1;
+    --count;
+    const std::uint32_t s = site[cur];
+    const int sr = static_cast<int>(s / cols_);
+    const int sc = static_cast<int>(s % cols_);
+    const int r = static_cast<int>(cur / cols_);
+    const int c = static_cast<int>(cur % cols_);
+    for (int dr = -1; dr <= 1; ++dr) {
+      const int rr = r + dr;
+      if (rr < 0 || rr >= rows) continue;
+      for (int dc = -1; dc <= 1; ++dc) {
+        const int cc = c + dc;
+        if ((dr == 0 && dc == 0) || cc < 0 || cc >= cols) continue;
+        const auto d2 = static_cast<std::uint32_t>((rr - sr) * (rr - sr) + (cc - sc) * (cc - sc));
+        if (d2 > band_dist2_) continue;
+        const std::size_t k = static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc);
+        if (d2 >= dist2[k]) continue;
+        dist2[k] = d2;
+        site[k] = s;
+        if (count == cap) continue;  // cannot happen with the ring's size; never overrun it
+        queue_[tail] = static_cast<std::uint32_t>(k);
+        tail = tail + 1 == cap ? 0 : tail + 1;
+        ++count;
+      }
+    }
+  }
 }
 
 void MapPlanner::inflate(const NavMap& map) {
-  std::copy(known_state_.begin(), known_state_.end(), state_.begin());
-  std::copy(known_depth_.begin(), known_depth_.end(), depth_.begin());
-  const auto rows = static_cast<int>(rows_);
-  const auto cols = static_cast<int>(cols_);
+  std::copy(known_dist2_.begin(), known_dist2_.end(), dist2_.begin());
+  std::copy(known_site_.begin(), known_site_.end(), site_.begin());
+  std::size_t queued = 0;
   for (const std::uint32_t k : map.lidar_occupied()) {
-    state_[k] = CellState::kOccupied;
-    depth_[k] = kDeepest;
-    const auto r = static_cast<int>(k / cols_);
-    const auto c = static_cast<int>(k % cols_);
-    for (const Offset& o : stencil_) {
-      const int rr = r + o.dr;
-      const int cc = c + o.dc;
-      if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) continue;
-      const std::size_t kk = static_cast<std::size_t>(rr) * cols_ + static_cast<std::size_t>(cc);
-      if (state_[kk] == CellState::kFree) state_[kk] = CellState::kInflated;
-      depth_[kk] = std::max(depth_[kk], o.depth);
+    if (dist2_[k] == 0) continue;
+    dist2_[k] = 0;
+    site_[k] = k;
+    queue_[queued++] = k;
+  }
+  spread(dist2_, site_, queued);
+  const std::size_t n = dist2_.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::uint32_t d2 = dist2_[k];
+    std::uint8_t extra = 0;
+    if (d2 == 0) {
+      state_[k] = CellState::kOccupied;
+      depth_[k] = kDeepest;
+    } else if (d2 <= band_dist2_ && depth_by_dist2_[d2] != 0) {
+      state_[k] = CellState::kInflated;
+      depth_[k] = depth_by_dist2_[d2];
+    } else {
+      state_[k] = CellState::kFree;
+      depth_[k] = 0;
+      if (d2 <= band_dist2_) extra = cost_by_dist2_[d2];
+      if (map.log_odds(k) == 0.0F)
+        extra = static_cast<std::uint8_t>(std::min(255, extra + unknown_cost_));
     }
+    cost_[k] = extra;
   }
 }
 
@@ -419,18 +577,40 @@ PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPo
       return status_;
     }
   }
+  fade_near(g);
   status_ = astar_.plan(v, start, g, params_.max_expansions);
+  if (status_ == PlanStatus::kOk) {
+    path_ = astar_.path();
+  } else {
+    path_.clear();
+  }
   return status_;
 }
 
-std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const {
-  const std::vector<core::NavPoint>& p = astar_.path();
-  if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
-  if (p.size() == 1) return p.front();
-  // The nearest point of the path.
+bool MapPlanner::line_clear(core::NavPoint a, core::NavPoint b) const {
+  const GridView v = view();
+  const auto start = v.cell_of(a);
+  if (!start) return false;
+  const std::uint8_t allowed = v.at(*start) == CellState::kOccupied ? 0 : depth_[v.index(*start)];
+  const double len = core::distance_m(a, b);
+  const auto samples = static_cast<int>(std::ceil(len / (0.5 * resolution_m_)));
+  for (int i = 1; i <= samples; ++i) {
+    const double t = static_cast<double>(i) / samples;
+    const auto c =
+        v.cell_of({a.north_m + t * (b.north_m - a.north_m), a.east_m + t * (b.east_m - a.east_m)});
+    if (!c) return false;
+    const std::size_t k = v.index(*c);
+    if (state_[k] == CellState::kOccupied) return false;
+    if (state_[k] == CellState::kInflated && depth_[k] > allowed) return false;
+  }
+  return true;
+}
+
+std::size_t MapPlanner::nearest_on_path(core::NavPoint position, core::NavPoint& nearest) const {
+  const std::vector<core::NavPoint>& p = path_;
   std::size_t best_i = 0;
-  double best_t = 0.0;
   double best_d = std::numeric_limits<double>::infinity();
+  nearest = p.front();
   for (std::size_t i = 0; i + 1 < p.size(); ++i) {
     const double dn = p[i + 1].north_m - p[i].north_m;
     const double de = p[i + 1].east_m - p[i].east_m;
@@ -441,29 +621,69 @@ std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const
           ((position.north_m - p[i].north_m) * dn + (position.east_m - p[i].east_m) * de) / len2,
           0.0, 1.0);
     }
-    const double d = std::hypot(p[i].north_m + t * dn - position.north_m,
-                                p[i].east_m + t * de - position.east_m);
+    const core::NavPoint q{p[i].north_m + t * dn, p[i].east_m + t * de};
+    const double d = core::distance_m(q, position);
     if (d < best_d) {
       best_d = d;
       best_i = i;
-      best_t = t;
+      nearest = q;
     }
   }
-  // Walk the look-ahead along the path from there.
-  double left = params_.lookahead_m;
-  core::NavPoint at{p[best_i].north_m + best_t * (p[best_i + 1].north_m - p[best_i].north_m),
-                    p[best_i].east_m + best_t * (p[best_i + 1].east_m - p[best_i].east_m)};
-  for (std::size_t i = best_i; i + 1 < p.size(); ++i) {
-    const double seg = core::distance_m(at, p[i + 1]);
-    if (seg >= left && seg > 0.0) {
-      const double f = left / seg;
-      return core::NavPoint{at.north_m + f * (p[i + 1].north_m - at.north_m),
-                            at.east_m + f * (p[i + 1].east_m - at.east_m)};
+  return best_i;
+}
+
+double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, double limit_m) const {
+  if (status_ != PlanStatus::kOk || path_.empty()) return 0.0;
+  core::NavPoint at;
+  const std::size_t first = nearest_on_path(position, at);
+  const double step = 0.5 * resolution_m_;
+  double run = 0.0;
+  for (std::size_t i = first; i + 1 < path_.size(); ++i) {
+    const double seg = core::distance_m(at, path_[i + 1]);
+    for (double s = 0.0; s < seg; s += step) {
+      const double f = s / seg;
+      const auto c = map.cell_of({at.north_m + f * (path_[i + 1].north_m - at.north_m),
+                                  at.east_m + f * (path_[i + 1].east_m - at.east_m)});
+      if (!c) return std::min(run + s, limit_m);
+      const std::size_t k = map.index(*c);
+      if (!map.known(k) && map.log_odds(k) == 0.0F) return std::min(run + s, limit_m);
+      if (run + s >= limit_m) return limit_m;
     }
-    left -= seg;
-    at = p[i + 1];
+    run += seg;
+    at = path_[i + 1];
   }
-  return p.back();
+  return limit_m;
+}
+
+std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const {
+  const std::vector<core::NavPoint>& p = path_;
+  if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
+  if (p.size() == 1) return p.front();
+  core::NavPoint nearest;
+  const std::size_t best_i = nearest_on_path(position, nearest);
+  // The point `ahead` metres along the path from the nearest one.
+  const auto along = [&](double ahead) {
+    core::NavPoint at = nearest;
+    for (std::size_t i = best_i; i + 1 < p.size(); ++i) {
+      const double seg = core::distance_m(at, p[i + 1]);
+      if (seg >= ahead && seg > 0.0) {
+        const double f = ahead / seg;
+        return core::NavPoint{at.north_m + f * (p[i + 1].north_m - at.north_m),
+                              at.east_m + f * (p[i + 1].east_m - at.east_m)};
+      }
+      ahead -= seg;
+      at = p[i + 1];
+    }
+    return p.back();
+  };
+  // The farthest point within the look-ahead the boat can steer straight at: a sub-goal round
+  // a corner would have the boat cut it.
+  const double step = resolution_m_;
+  for (double ahead = params_.lookahead_m; ahead > step; ahead -= step) {
+    const core::NavPoint q = along(ahead);
+    if (line_clear(position, q)) return q;
+  }
+  return along(std::min(step, params_.lookahead_m));
 }
 
 }  // namespace coxswain::guidance

@@ -104,7 +104,9 @@ TEST(MissionAllocation, MappingPlanningAndGateJudgingDoNotAllocate) {
     rig->now += kTickNs;
   }
   EXPECT_EQ(g_allocations.load() - before, 0);
-  EXPECT_GE(rig->out.status.waypoints_arrived, 1U);  // through the gate on the way
+  EXPECT_GE(rig->out.status.waypoints_arrived, 1U)
+      << rig->position.north_m << "," << rig->position.east_m << " "
+      << rig->path();  // through the gate on the way
 }
 
 // A live parameter set applied between two steps may allocate (the clusterer's buffers, an

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -189,12 +190,23 @@ class Rig {
   }
 
   /// Rebuilds `scan` from `world_buoys` as seen from the boat's pose.
+  /// A 0.5-degree revolution: each buoy's returns, buoy by buoy (the rig does not occlude), then
+  /// a "no return" (range 0) on each bearing over open water, as the scanner gives it.
   void scan_world() {
     scan.clear();
     const core::NavPose pose{position, heading_deg};
     for (const WorldBuoy& b : world_buoys) {
       const core::BodyPoint p = core::nav_to_body(pose, b.centre);
       add_circle(scan, p.forward_m, p.starboard_m, b.radius_m);
+    }
+    std::array<bool, 720> covered{};
+    for (std::uint32_t k = 0; k < scan.point_count; ++k) {
+      const long bin = std::lround((static_cast<double>(scan.points[k].bearing_deg) + 180.0) * 2.0);
+      covered[static_cast<std::size_t>(std::clamp(bin, 0L, 719L))] = true;
+    }
+    for (std::size_t i = 0; i < covered.size(); ++i) {
+      if (!covered[i])
+        (void)scan.push({static_cast<float>(-180.0 + 0.5 * static_cast<double>(i)), 0.0F, 0, 0});
     }
   }
   /// Publishes a camera frame of the `world_objects` inside the camera's field of view.
