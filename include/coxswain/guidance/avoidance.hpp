@@ -245,6 +245,7 @@ class Avoidance {
   // every segment's end points are the same bit for bit.
   [[nodiscard]] bool same_geometry(const perception::ObstacleList& obstacles) const;
   bool geometry_valid_ = false;
+  bool bins_filled_ = false;  // bins_ hold the ranges of the obstacles last decided on
   std::uint32_t geometry_count_ = 0;
   std::array<std::array<double, 4>, perception::ObstacleList::kMaxSegments> geometry_segments_{};
   std::array<double, AngleBins::kMaxBins> geometry_range_m_{};

@@ -9,41 +9,25 @@
 #include <stdexcept>
 
 #include "coxswain/core/angles.hpp"
+#include "coxswain/core/lanes.hpp"
 
 namespace coxswain::perception {
 namespace {
 
 constexpr double kFullCircleDeg = 360.0;
 
-// Four floats (or two doubles) at a time: GCC/Clang vector extensions, SSE2 on x86-64, NEON on
-// ARM, plain scalar code elsewhere. Each lane does the scalar arithmetic, so a return's point
-// does not depend on which lane or path computed it.
-using V4f = float __attribute__((vector_size(16)));
-using V4i = std::int32_t __attribute__((vector_size(16)));
-using V2d = double __attribute__((vector_size(16)));
-
-inline V4f load4(const float* p) {
-  V4f v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store4(float* p, V4f v) { std::memcpy(p, &v, sizeof v); }
-inline V4f splat4(float v) { return V4f{v, v, v, v}; }
-inline V4f abs4(V4f v) {
-  constexpr std::int32_t kNoSign = std::numeric_limits<std::int32_t>::max();
-  return std::bit_cast<V4f>(std::bit_cast<V4i>(v) & V4i{kNoSign, kNoSign, kNoSign, kNoSign});
-}
-inline V4f and4(V4i mask, V4f v) { return std::bit_cast<V4f>(mask & std::bit_cast<V4i>(v)); }
-inline bool any4(V4i m) { return ((m[0] | m[1]) | (m[2] | m[3])) != 0; }
-inline bool all4(V4i m) { return ((m[0] & m[1]) & (m[2] & m[3])) != 0; }
-using V2f = float __attribute__((vector_size(8)));
-// Two floats widened to doubles.
-inline V2d widen2(const float* p) {
-  V2f v;
-  std::memcpy(&v, p, sizeof v);
-  return __builtin_convertvector(v, V2d);
-}
-inline V4f max4(V4f a, V4f b) { return a > b ? a : b; }
+using core::lanes::abs4;
+using core::lanes::all4;
+using core::lanes::and4;
+using core::lanes::any4;
+using core::lanes::load4;
+using core::lanes::max4;
+using core::lanes::splat4;
+using core::lanes::store4;
+using core::lanes::V2d;
+using core::lanes::V4f;
+using core::lanes::V4i;
+using core::lanes::widen2;
 
 // The float next to v towards +inf (up) or -inf (down) when v is not one: with it a float x
 // compares as the double comparison with v would (x >= v <=> x >= up(v), x <= v <=> x <= down(v)).
