@@ -196,6 +196,7 @@ class Avoidance {
   std::array<double, AngleBins::kMaxBins> arc_cos_{};
   std::array<double, AngleBins::kMaxBins> arc_sin_{};
   std::array<double, AngleBins::kMaxBins> arc_len_m_{};
+  double path_reach_m_ = 0.0;  // farthest a segment can lie and still matter to the path ranges
   // The swept hull's predicted poses depend on the boat alone, so they are set up once: per
   // side, each step's heading change (degrees), cos/sin of the turn and the body origin's
   // position, all in the body frame of now; the hull box's centre at that pose; the turning

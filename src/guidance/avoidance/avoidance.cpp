@@ -302,6 +302,16 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
     arc_end_s_m_[j] = sign * radius * (1.0 - arc_cos_[j]) - p * arc_sin_[j];
     arc_len_m_[j] = radius * a;
   }
+  // A point of the segment that lowers bin j's range below the detection range D lies within w
+  // of the corridor's centre line, less than D - arc length ahead of the turn's end: no farther
+  // from the origin than D + w + (the turn end's distance - its arc length).
+  double end_past_arc_m = 0.0;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    end_past_arc_m =
+        std::max(end_past_arc_m, std::hypot(arc_end_f_m_[j], arc_end_s_m_[j]) - arc_len_m_[j]);
+  }
+  path_reach_m_ =
+      params.detection_range_m + params.half_beam_m + params.clearance_m + end_past_arc_m + 1e-6;
   // Blocks of bins for the path ranges' first test: the corridors of a block's bins all lie in
   // the wedge between its first and last bin's directions, from its first bin's arc end,
   // widened by the farthest other arc end of the block (valid while the directions turn one
@@ -602,11 +612,18 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = bins_.range_m(j);
     return;
   }
-  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = AngleBins::kNoObstacle;
+  // Selection and score read a range only as "below the detection range or not" (every limit
+  // they compare it with is at most that range, and the room they sum is capped there): for them
+  // a bin starts at the detection range, and a segment or bin that cannot come nearer along the
+  // path is passed over. The risk bins' danger reads the range itself: every range counts.
   const double w = params_.half_beam_m + params_.clearance_m;
-  const double max_arc_m =
-      params_.sweep_turn_radius_m * core::kPi + std::abs(params_.pivot_ahead_m);
-  const double reach = params_.detection_range_m + max_arc_m;
+  const bool capped = params_.strategy != Strategy::kRiskBin;
+  const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
+  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = start_m;
+  const double reach = capped
+                           ? path_reach_m_
+                           : params_.detection_range_m + params_.sweep_turn_radius_m * core::kPi +
+                                 std::abs(params_.pivot_ahead_m);
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   for (std::uint32_t k = 0; k < count; ++k) {
