@@ -37,6 +37,7 @@ inline V2d load2(const double* p) {
   std::memcpy(&v, p, sizeof v);
   return v;
 }
+inline void store2(double* p, V2d v) { std::memcpy(p, &v, sizeof v); }
 inline V2d splat2(double v) { return V2d{v, v}; }
 inline V2d abs2(V2d v) {
   constexpr std::int64_t kNoSign = std::numeric_limits<std::int64_t>::max();
@@ -45,6 +46,7 @@ inline V2d abs2(V2d v) {
 // std::max(a, b) lane by lane: (a < b) ? b : a.
 inline V2d max2(V2d a, V2d b) { return a < b ? b : a; }
 inline bool any2(V2i m) { return (m[0] | m[1]) != 0; }
+inline bool all2(V2i m) { return (m[0] & m[1]) != 0; }
 // Two floats widened to doubles.
 inline V2d widen2(const float* p) {
   V2f v;

@@ -184,9 +184,12 @@ class Avoidance {
   AvoidanceParams params_;
   AngleBins bins_;
   std::array<double, AngleBins::kMaxBins> cost_{};  // +inf = not allowed
-  double goal_deg_ = 0.0;                           // goal for the current decision
-  double cost_per_deg_ = 1.0;                       // converts hysteresis_deg into cost units
-  double sweep_port_deg_ = 180.0;                   // largest turn the swept hull allows
+  // Per bin, set up once: its centre, and the score's angle term (the same expression as ever).
+  std::array<double, AngleBins::kMaxBins> center_deg_{};
+  std::array<double, AngleBins::kMaxBins> angle_term_{};
+  double goal_deg_ = 0.0;          // goal for the current decision
+  double cost_per_deg_ = 1.0;      // converts hysteresis_deg into cost units
+  double sweep_port_deg_ = 180.0;  // largest turn the swept hull allows
   double sweep_starboard_deg_ = 180.0;
   // Per bin: the range the strategies use, and the pose at the end of the turn onto the bin's
   // heading (origin forward/starboard, cos/sin of the turn, arc length), set up once.

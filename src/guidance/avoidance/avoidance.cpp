@@ -14,10 +14,12 @@ namespace coxswain::guidance {
 namespace {
 
 using core::lanes::abs2;
+using core::lanes::all2;
 using core::lanes::any2;
 using core::lanes::load2;
 using core::lanes::max2;
 using core::lanes::splat2;
+using core::lanes::store2;
 using core::lanes::V2d;
 using core::lanes::V2i;
 
@@ -288,6 +290,10 @@ std::optional<Avoidance> Avoidance::create(const AvoidanceParams& params, std::s
 Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
   (void)bins_.configure(params.fan);  // validated by create()
   cost_per_deg_ = params.strategy == Strategy::kScore ? params.score_goal_weight / 180.0 : 1.0;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    center_deg_[j] = bins_.center_deg(j);
+    angle_term_[j] = params.score_angle_weight * (1.0 - std::abs(center_deg_[j]) / 180.0);
+  }
   // The pose at the end of each bin's turn: the pivot (pivot_ahead_m ahead of the origin) on a
   // circle of the turn radius, the origin pivot_ahead_m behind it along the new heading.
   const double p = params.pivot_ahead_m;
@@ -392,8 +398,33 @@ bool Avoidance::compute_costs(double limit_m) {
   bool any = false;
   // The score's hard block shrinks with the range once the range falls below it.
   const double block_m = std::min(params_.score_block_range_m, limit_m);
-  for (std::size_t j = 0; j < n; ++j) {
-    const double c = bins_.center_deg(j);
+  std::size_t j = 0;
+  if (params_.strategy == Strategy::kScore) {
+    // Two bins at a time, lane by lane the arithmetic below (a pair whose turn needs wrapping
+    // goes through it).
+    const V2d inf = splat2(kInf);
+    const V2d goal = splat2(goal_deg_);
+    const V2d port = splat2(sweep_port_deg_);
+    const V2d stbd = splat2(sweep_starboard_deg_);
+    const V2d limit = splat2(limit_m);
+    const V2d block = splat2(block_m);
+    for (; j + 1 < n; j += 2) {
+      const V2d c = load2(&center_deg_[j]);
+      const V2d diff = c - goal;
+      if (!all2((diff > splat2(-180.0)) & (diff <= splat2(180.0)))) break;
+      const V2d d = load2(&range_m_[j]);
+      const V2d base = params_.score_goal_weight * abs2(diff) / 180.0;
+      const V2d near =
+          base + (params_.score_distance_weight * (1.0 - d / limit) + load2(&angle_term_[j]));
+      V2d cost = d < limit ? near : base;
+      cost = (d < block) ? inf : cost;
+      cost = ((c > stbd) | (-c > port)) ? inf : cost;
+      store2(&cost_[j], cost);
+      any = any || cost[0] < kInf || cost[1] < kInf;
+    }
+  }
+  for (; j < n; ++j) {
+    const double c = center_deg_[j];
     const double d = range_m_[j];
     const double turn = std::abs(diff_deg(c, goal_deg_));
     double cost = kInf;
@@ -403,8 +434,7 @@ bool Avoidance::compute_costs(double limit_m) {
       if (!(d < block_m)) {
         cost = params_.score_goal_weight * turn / 180.0;
         if (d < limit_m) {
-          cost += params_.score_distance_weight * (1.0 - d / limit_m) +
-                  params_.score_angle_weight * (1.0 - std::abs(c) / 180.0);
+          cost += params_.score_distance_weight * (1.0 - d / limit_m) + angle_term_[j];
         }
       }
     } else if (!(d < limit_m)) {  // selection and risk bins: the limit is the threshold range
@@ -482,7 +512,35 @@ double Avoidance::speed_for(double nearest_m) const {
 void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
   const std::size_t n = bins_.size();
   out.danger.fill(0.0F);
-  for (std::size_t j = 0; j < n; ++j) {
+  std::size_t j = 0;
+  if (params_.strategy == Strategy::kScore) {
+    // Two bins at a time, lane by lane the arithmetic below.
+    const double w = params_.score_distance_weight + params_.score_angle_weight;
+    const V2d limit = splat2(limit_m);
+    const V2d port = splat2(sweep_port_deg_);
+    const V2d stbd = splat2(sweep_starboard_deg_);
+    const V2d zero = splat2(0.0);
+    const V2d one = splat2(1.0);
+    for (; j + 1 < n; j += 2) {
+      const V2d d = load2(&range_m_[j]);
+      const V2d c = load2(&center_deg_[j]);
+      V2d risk = params_.score_distance_weight * (1.0 - d / limit) + load2(&angle_term_[j]);
+      if (w > 0.0) {
+        risk = risk / w;
+        risk = risk < zero ? zero : risk;  // std::clamp(risk, 0, 1)
+        risk = one < risk ? one : risk;
+      } else {
+        risk = zero;
+      }
+      V2d danger = d < splat2(params_.detection_range_m) ? splat2(0.5) : zero;
+      danger = d < limit ? risk : danger;
+      danger = load2(&cost_[j]) < splat2(kInf) ? danger : one;
+      danger = ((c > stbd) | (-c > port)) ? one : danger;
+      out.danger[j] = static_cast<float>(danger[0]);
+      out.danger[j + 1] = static_cast<float>(danger[1]);
+    }
+  }
+  for (; j < n; ++j) {
     const double d = range_m_[j];
     double danger = 0.0;
     switch (params_.strategy) {
@@ -498,9 +556,7 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
           danger = 1.0;
         } else if (d < limit_m) {
           const double w = params_.score_distance_weight + params_.score_angle_weight;
-          const double risk =
-              params_.score_distance_weight * (1.0 - d / limit_m) +
-              params_.score_angle_weight * (1.0 - std::abs(bins_.center_deg(j)) / 180.0);
+          const double risk = params_.score_distance_weight * (1.0 - d / limit_m) + angle_term_[j];
           danger = w > 0.0 ? std::clamp(risk / w, 0.0, 1.0) : 0.0;
         } else if (d < params_.detection_range_m) {
           danger = 0.5;  // seen, but beyond the shrunken range
@@ -510,7 +566,7 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
         danger = d < limit_m ? 1.0 : (d < params_.detection_range_m ? 0.5 : 0.0);
         break;
     }
-    if (swept_out(bins_.center_deg(j))) danger = 1.0;
+    if (swept_out(center_deg_[j])) danger = 1.0;
     out.danger[j] = static_cast<float>(danger);
   }
 }
