@@ -383,7 +383,7 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   request_tick_priority();
   loop.run(
       [&](const TickInfo& tick) {
-        store->snapshot(*snapshot);
+        store->refresh(*snapshot);  // unchanged slots (the scan, most ticks) not copied again
         if (reporter.report_changes(*snapshot) > 0) {
           notifier.status(config.mission.name + ": " + HealthReporter::summary(*snapshot));
         }

@@ -26,4 +26,14 @@ void LatestStore::snapshot(Snapshot& out) const {
   for (std::size_t i = 0; i < health.size(); ++i) health[i].read(out.health[i]);
 }
 
+void LatestStore::refresh(Snapshot& out) const {
+  lidar.refresh(out.lidar);
+  imu.refresh(out.imu);
+  gnss.refresh(out.gnss);
+  camera.refresh(out.camera);
+  arduino.refresh(out.arduino);
+  operator_input.refresh(out.operator_input);
+  for (std::size_t i = 0; i < health.size(); ++i) health[i].refresh(out.health[i]);
+}
+
 }  // namespace coxswain::core

@@ -7,11 +7,18 @@ per-call samples) and the mean CPU time, the target, the exact command, and the 
 when it ran (the machine is shared: ratios between rows mean more than absolutes under load).
 
   tools/bench/perf_page.py [--build build] [--out docs/performance.md] [--min-time 1]
+                           [--daemon-load | --daemon-json FILE] [--batch-runs 24]
 
 The recorded lidar scans come from the shared test data folder (COXSWAIN_SHARED_TESTDATA, else
-../shared/testdata beside the clone); without them those rows say "skipped".
+../shared/testdata beside the clone); without them those rows say "skipped". The simulator rows
+are bench_sim_lockstep's real-time factor (simulated seconds per CPU second) and a batch timed at
+1 and 2 jobs (runs per wall-clock second, and per CPU second). The daemon rows come from
+tools/bench/daemon_load.sh (devices mode in real time, about 5 minutes): --daemon-load runs it,
+--daemon-json reads a JSON file it wrote earlier; without either they are left out.
 """
 import argparse
+import resource
+import time
 import datetime
 import json
 import os
@@ -22,7 +29,8 @@ import sys
 import tempfile
 
 # (benchmark program relative to the build folder, filter, row label, target text,
-#  target check: (counter, limit_us) pairs, all must hold)
+#  target check: (counter, limit) pairs, all must hold: the counter at most the limit, or at
+#  least it for a counter named in AT_LEAST)
 ROWS = [
     ("tools/bench/perception/lidar/bench_lidar_clustering", "BM_PeerScansDefault$",
      "clustering per recorded scan (peer, default mode)", "median <= 8 us",
@@ -49,7 +57,14 @@ ROWS = [
     ("tools/bench/mission/bench_mission", "BM_StepBetweenScans/shipped:1/planner:1$",
      "mission step between scans, lidar map and planner on (replans included)", "p99 <= 5 us",
      [("p99_us", 5.0)]),
+    ("tools/bench/sim/bench_sim_lockstep", "camera:0",
+     "lockstep 2026 course (3 min of the real mission core, realistic sensors), no camera",
+     "real-time factor >= 1000x", [("sim_s_per_s", 1000.0)]),
+    ("tools/bench/sim/bench_sim_lockstep", "camera:1",
+     "lockstep 2026 course, the camera rendered and its pipeline run while the mission looks",
+     "real-time factor >= 100x", [("sim_s_per_s", 100.0)]),
 ]
+AT_LEAST = {"sim_s_per_s"}
 
 
 def fmt_us(v):
@@ -87,11 +102,103 @@ def run_row(build, prog, flt, min_time):
     return b, None, load
 
 
+def batch_rows(build, runs):
+    """A simulator batch timed whole at 1 and 2 jobs: runs per wall-clock and per CPU second."""
+    if runs <= 0:
+        return []
+    sim = os.path.join(build, "tools/sim/app/coxswain-sim")
+    if not os.path.exists(sim):
+        return ["Batch scaling: coxswain-sim not built.", ""]
+    out = ["Simulator batch at 1 and 2 jobs (whole process; on a shared machine the second job "
+           "waits for a core whenever the neighbours hold one, so compare the CPU column):", "",
+           "| jobs | runs | wall s | runs per wall s | CPU s | runs per CPU s | command | "
+           "load average |",
+           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    for jobs in (1, 2):
+        cmd = [sim, "batch", "--kind", "obstacle", "--runs", str(runs), "--seed0", "1",
+               "--jobs", str(jobs)]
+        load = " / ".join(f"{x:.2f}" for x in os.getloadavg())
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.monotonic()
+        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+        wall = time.monotonic() - t0
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        shown = " ".join(cmd)
+        out.append(f"| {jobs} | {runs} | {wall:.2f} | {runs / wall:.1f} | {cpu:.2f} | "
+                   f"{runs / cpu:.1f} | `{shown}` | {load} |")
+        print(f"batch, {jobs} job(s): {runs / wall:.1f} runs/s wall, {runs / cpu:.1f} runs/CPU s, "
+              f"load {load}", file=sys.stderr)
+    out.append("")
+    return out
+
+
+def daemon_rows(args):
+    """The daemon's footprint rows from tools/bench/daemon_load.sh's JSON."""
+    path = args.daemon_json
+    if args.daemon_load:
+        with tempfile.NamedTemporaryFile(suffix=".json", delete=False) as f:
+            path = f.name
+        script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "daemon_load.sh")
+        subprocess.run([script, "--build", args.build, "--json", path], check=False,
+                       stdout=subprocess.DEVNULL)
+    try:
+        with open(path) as f:
+            d = json.load(f)
+    except (OSError, ValueError) as e:
+        return [f"Daemon rows: no result ({e}).", ""], 0, 0
+    rows = {r["label"]: r for r in d["rows"]}
+    off = rows.get("no camera, recording off", {})
+    on = rows.get("no camera, recording on", {})
+    cam = rows.get("camera 30 fps, recording on", {})
+    checks = [
+        ("daemon CPU, devices mode, no camera (recording off)", off.get("cpu_pct"),
+         "<= 5% of a core", 5.0, "%"),
+        ("daemon CPU, devices mode, camera at 30 fps (recording on)", cam.get("cpu_pct"),
+         "<= 15% of a core", 15.0, "%"),
+        ("daemon RSS, no camera (largest sampled)", off.get("rss_mb"), "<= 60 MB", 60.0, " MB"),
+        ("recorder's share of a core (recording on minus off, no camera)",
+         d.get("recorder_share_pct"), "<= 2% of a core", 2.0, "%"),
+        ("recording size, no camera frames, per 10 min", on.get("recording_mb_per_10min"),
+         "<= 30 MB", 30.0, " MB"),
+    ]
+    command = "tools/bench/daemon_load.sh --build " + args.build
+    out = [f"Daemon at nominal sensor load (devices mode, 2026 course, real time; "
+           f"{d.get('measure_s')} s measured after {d.get('warmup_s')} s; load average "
+           f"{d.get('load_before')} before, {d.get('load_after')} after; command "
+           f"`{command}`):", "",
+           "| what | measured | target | |", "| --- | --- | --- | --- |"]
+    met = 0
+    for label, value, target, limit, unit in checks:
+        ok = value is not None and value <= limit
+        met += 1 if ok else 0
+        shown = "-" if value is None else f"{value}{unit}"
+        out.append(f"| {label} | {shown} | {target} | {'met' if ok else 'not met'} |")
+    out.append("")
+    out.append("Every arrangement as measured (CPU from /proc/PID/stat over the window, RSS sampled "
+               "each second, high-water from VmHWM):")
+    out.append("")
+    out.append("| arrangement | CPU (% of a core) | RSS max MB | RSS high-water MB | "
+               "recording MB per 10 min |")
+    out.append("| --- | --- | --- | --- | --- |")
+    for r in d["rows"]:
+        mb = r.get("recording_mb_per_10min")
+        out.append(f"| {r['label']} | {r['cpu_pct']} | {r['rss_mb']} | {r['rss_hwm_mb']} | "
+                   f"{'-' if mb is None else mb} |")
+    out.append("")
+    return out, met, len(checks)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--build", default="build", help="build folder (default: build)")
     ap.add_argument("--out", default="docs/performance.md")
     ap.add_argument("--min-time", default="1", help="--benchmark_min_time per row, seconds")
+    ap.add_argument("--batch-runs", type=int, default=24,
+                    help="runs of the obstacle batch timed at 1 and 2 jobs (0: leave out)")
+    ap.add_argument("--daemon-load", action="store_true",
+                    help="run tools/bench/daemon_load.sh for the daemon rows (about 5 minutes)")
+    ap.add_argument("--daemon-json", help="the daemon rows from this daemon_load.sh --json file")
     args = ap.parse_args()
 
     lines = []
@@ -108,17 +215,30 @@ def main():
         p99 = b.get("p99_us")
         cpu = b.get("cpu_time")
         unit = b.get("time_unit", "ns")
-        cpu_us = cpu if unit == "us" else cpu / 1000.0 if unit == "ns" else cpu * 1000.0
+        cpu_us = (cpu if unit == "us" else cpu / 1000.0 if unit == "ns"
+                  else cpu * 1000.0 if unit == "ms" else cpu * 1e6)
         verdict = "-"
         if checks:
-            ok = all(b.get(k) is not None and b[k] <= lim for k, lim in checks)
+            ok = all(b.get(k) is not None and (b[k] >= lim if k in AT_LEAST else b[k] <= lim)
+                     for k, lim in checks)
             verdict = "met" if ok else "not met"
             checked += 1
             met += 1 if ok else 0
-        lines.append(f"| {label} | {fmt_us(p50)} / {fmt_us(p99)} | {fmt_us(cpu_us)} | {target} | "
+        if "sim_s_per_s" in b:
+            figure = f"{b['sim_s_per_s']:.0f}x real time"
+        else:
+            figure = f"{fmt_us(p50)} / {fmt_us(p99)}"
+        lines.append(f"| {label} | {figure} | {fmt_us(cpu_us)} | {target} | "
                      f"{verdict} | `{b['_command']}` | {load_txt} |")
-        print(f"{label}: p50 {fmt_us(p50)} p99 {fmt_us(p99)} cpu {fmt_us(cpu_us)} ({verdict}), "
-              f"load {load_txt}", file=sys.stderr)
+        print(f"{label}: {figure}, cpu {fmt_us(cpu_us)} ({verdict}), load {load_txt}",
+              file=sys.stderr)
+
+    batch_lines = batch_rows(args.build, args.batch_runs)
+    daemon_lines, daemon_met, daemon_checked = [], 0, 0
+    if args.daemon_load or args.daemon_json:
+        daemon_lines, daemon_met, daemon_checked = daemon_rows(args)
+    met += daemon_met
+    checked += daemon_checked
 
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     cpu_name = platform.processor() or platform.machine()
@@ -134,12 +254,15 @@ def main():
         "",
         f"Targets met: {met} of {checked} rows with a target.",
         "",
-        "| what | median / p99 | CPU (mean) | target | | command | load average |",
+        "| what | median / p99 (or rate) | CPU (mean) | target | | command | load average |",
         "| --- | --- | --- | --- | --- | --- | --- |",
         *lines,
         "",
-        "Regenerate: `tools/bench/perf_page.py --build build` (after building the `bench_*` "
-        "targets); the recorded scans are the shared test data folder's `peer/` run.",
+        *batch_lines,
+        *daemon_lines,
+        "Regenerate: `tools/bench/perf_page.py --build build --daemon-load` (after building the "
+        "`bench_*` targets, `coxswain` and `coxswain-sim`); the recorded scans are the shared test "
+        "data folder's `peer/` run.",
         "",
     ]
     with open(args.out, "w") as f:

@@ -55,6 +55,11 @@ class AngleBins {
   [[nodiscard]] const std::array<double, kMaxBins>& ranges_m() const { return range_m_; }
   /// Closest range over all bins (kNoObstacle when empty).
   [[nodiscard]] double min_range_m() const;
+  /// What fill(list, corridor_half_width_m, max_range_m) and then min_range_m() would give,
+  /// without filling (nor touching) the bins: the nearest segments first, stopping at the first
+  /// that cannot come closer.
+  [[nodiscard]] double nearest_m(const perception::ObstacleList& list, double corridor_half_width_m,
+                                 double max_range_m) const;
 
  private:
   // Bins that may be touched, as up to two half-open index runs (two when wrapping round).
@@ -64,6 +69,12 @@ class AngleBins {
     int count = 0;
   };
   [[nodiscard]] Runs candidate_bins(double from_deg, double sweep_deg) const;
+  // Calls visit(bin, d_min, f, s, at_closest) for every bin the segment reaches: at_closest when
+  // the bin holds the segment's own closest point (distance d_min), else (f, s) is the point of
+  // the segment nearest the origin that the bin reaches.
+  template <class Visit>
+  void visit_bins(const perception::ObstacleSegment& seg, double corridor_half_width_m,
+                  Visit&& visit) const;
 
   AngleFan fan_{};
   std::size_t count_ = 0;

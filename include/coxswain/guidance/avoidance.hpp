@@ -184,9 +184,12 @@ class Avoidance {
   AvoidanceParams params_;
   AngleBins bins_;
   std::array<double, AngleBins::kMaxBins> cost_{};  // +inf = not allowed
-  double goal_deg_ = 0.0;                           // goal for the current decision
-  double cost_per_deg_ = 1.0;                       // converts hysteresis_deg into cost units
-  double sweep_port_deg_ = 180.0;                   // largest turn the swept hull allows
+  // Per bin, set up once: its centre, and the score's angle term (the same expression as ever).
+  std::array<double, AngleBins::kMaxBins> center_deg_{};
+  std::array<double, AngleBins::kMaxBins> angle_term_{};
+  double goal_deg_ = 0.0;          // goal for the current decision
+  double cost_per_deg_ = 1.0;      // converts hysteresis_deg into cost units
+  double sweep_port_deg_ = 180.0;  // largest turn the swept hull allows
   double sweep_starboard_deg_ = 180.0;
   // Per bin: the range the strategies use, and the pose at the end of the turn onto the bin's
   // heading (origin forward/starboard, cos/sin of the turn, arc length), set up once.
@@ -196,6 +199,7 @@ class Avoidance {
   std::array<double, AngleBins::kMaxBins> arc_cos_{};
   std::array<double, AngleBins::kMaxBins> arc_sin_{};
   std::array<double, AngleBins::kMaxBins> arc_len_m_{};
+  double path_reach_m_ = 0.0;  // farthest a segment can lie and still matter to the path ranges
   // The swept hull's predicted poses depend on the boat alone, so they are set up once: per
   // side, each step's heading change (degrees), cos/sin of the turn and the body origin's
   // position, all in the body frame of now; the hull box's centre at that pose; the turning
@@ -245,6 +249,7 @@ class Avoidance {
   // every segment's end points are the same bit for bit.
   [[nodiscard]] bool same_geometry(const perception::ObstacleList& obstacles) const;
   bool geometry_valid_ = false;
+  bool bins_filled_ = false;  // bins_ hold the ranges of the obstacles last decided on
   std::uint32_t geometry_count_ = 0;
   std::array<std::array<double, 4>, perception::ObstacleList::kMaxSegments> geometry_segments_{};
   std::array<double, AngleBins::kMaxBins> geometry_range_m_{};

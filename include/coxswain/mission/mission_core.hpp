@@ -208,7 +208,8 @@ class MissionCore {
   MissionCore(MissionCore&&) noexcept;
   MissionCore& operator=(MissionCore&&) noexcept;
 
-  /// One tick. Overwrites `out` entirely.
+  /// One tick. Overwrites `out`: every field, and each array of out.viz up to its count (entries
+  /// past a count are left as they were; nothing reads them).
   void step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out);
 
   /// Replaces the tunable parameters between two steps (never during one). Only the named

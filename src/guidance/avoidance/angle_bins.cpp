@@ -2,6 +2,7 @@
 #include "coxswain/guidance/angle_bins.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -102,26 +103,27 @@ AngleBins::Runs AngleBins::candidate_bins(double from_deg, double sweep_deg) con
   return r;
 }
 
-void AngleBins::fill(const perception::ObstacleList& list, double corridor_half_width_m,
-                     double max_range_m) {
-  clear();
-  const std::uint32_t n = std::min<std::uint32_t>(
-      list.count, static_cast<std::uint32_t>(perception::ObstacleList::kMaxSegments));
-  for (std::uint32_t k = 0; k < n; ++k) {
-    const auto& seg = list.segments[k];
-    const double df = seg.end.forward_m - seg.begin.forward_m;
-    const double ds = seg.end.starboard_m - seg.begin.starboard_m;
-    const double dd = df * df + ds * ds;
-    const double t =
-        dd < kEps
-            ? 0.0
-            : std::clamp(-(seg.begin.forward_m * df + seg.begin.starboard_m * ds) / dd, 0.0, 1.0);
-    const double d = std::hypot(seg.begin.forward_m + t * df, seg.begin.starboard_m + t * ds);
-    if (d <= max_range_m) add_segment(seg, corridor_half_width_m);
-  }
+namespace {
+
+// The closest point of segment a + t d (t in [0, 1]) to the body origin: its parameter and
+// distance, as fill() and add_segment() take them.
+struct Closest {
+  double t = 0.0;
+  double d_m = 0.0;
+};
+Closest closest_to_origin(double af, double as, double df, double ds) {
+  const double dd = df * df + ds * ds;
+  Closest c;
+  c.t = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
+  c.d_m = std::hypot(af + c.t * df, as + c.t * ds);
+  return c;
 }
 
-void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corridor_half_width_m) {
+}  // namespace
+
+template <class Visit>
+void AngleBins::visit_bins(const perception::ObstacleSegment& seg, double corridor_half_width_m,
+                           Visit&& visit) const {
   if (count_ == 0) return;
   const double af = seg.begin.forward_m;
   const double as = seg.begin.starboard_m;
@@ -131,10 +133,10 @@ void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corri
     return;
   }
   const double r = std::max(0.0, corridor_half_width_m);
-  const double dd = df * df + ds * ds;
   // Closest point of the whole segment to the body origin.
-  const double t_star = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
-  const double d_min = std::hypot(af + t_star * df, as + t_star * ds);
+  const Closest closest = closest_to_origin(af, as, df, ds);
+  const double t_star = closest.t;
+  const double d_min = closest.d_m;
 
   // Which bins can be touched: the segment's angular interval (the short way round: a segment
   // not through the origin subtends less than 180 deg) widened by the largest margin.
@@ -166,21 +168,85 @@ void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corri
       if (!clip(cl0 + r, cld, t_lo, t_hi)) continue;
       if (!clip(r - ch0, -chd, t_lo, t_hi)) continue;
       if (!clip(al0, ald, t_lo, t_hi)) continue;
-      // |P(t)|^2 is convex in t, so the closest point of the piece is the clamped minimiser.
+      // |P(t)|^2 is convex in t, so the closest point of the piece is the clamped minimiser:
+      // the segment's own closest point, or the point at tc.
       const double tc = std::clamp(t_star, t_lo, t_hi);
       if (tc == t_star) {
-        range_m_[j] = std::min(range_m_[j], d_min);  // the same point, so the same hypot()
-        continue;
+        visit(j, d_min, 0.0, 0.0, true);
+      } else {
+        visit(j, d_min, af + tc * df, as + tc * ds, false);
       }
-      // A point whose square is clearly beyond the bin's range cannot lower it: hypot() only
-      // when it might.
-      const double pf = af + tc * df;
-      const double ps = as + tc * ds;
-      const double r_j = range_m_[j];
-      if (pf * pf + ps * ps >= r_j * r_j * (1.0 + 1e-9)) continue;
-      range_m_[j] = std::min(r_j, std::hypot(pf, ps));
     }
   }
+}
+
+void AngleBins::fill(const perception::ObstacleList& list, double corridor_half_width_m,
+                     double max_range_m) {
+  clear();
+  const std::uint32_t n = std::min<std::uint32_t>(
+      list.count, static_cast<std::uint32_t>(perception::ObstacleList::kMaxSegments));
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto& seg = list.segments[k];
+    const double df = seg.end.forward_m - seg.begin.forward_m;
+    const double ds = seg.end.starboard_m - seg.begin.starboard_m;
+    if (closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds).d_m <= max_range_m) {
+      add_segment(seg, corridor_half_width_m);
+    }
+  }
+}
+
+void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corridor_half_width_m) {
+  visit_bins(seg, corridor_half_width_m,
+             [this](std::size_t j, double d_min, double pf, double ps, bool at_closest) {
+               if (at_closest) {
+                 range_m_[j] = std::min(range_m_[j], d_min);  // the same point, the same hypot()
+                 return;
+               }
+               // A point whose square is clearly beyond the bin's range cannot lower it: hypot()
+               // only when it might.
+               const double r_j = range_m_[j];
+               if (pf * pf + ps * ps >= r_j * r_j * (1.0 + 1e-9)) return;
+               range_m_[j] = std::min(r_j, std::hypot(pf, ps));
+             });
+}
+
+double AngleBins::nearest_m(const perception::ObstacleList& list, double corridor_half_width_m,
+                            double max_range_m) const {
+  // fill() leaves in each bin the least of the distances its segments give it (a distance it
+  // skips is above the bin's, so above the least of all): the least over all bins is the least
+  // over every (segment, bin) pair, in any order. A segment gives no distance below its own
+  // closest point's (but for rounding), so the segments are taken nearest first and the search
+  // stops at the first that cannot come closer than what was found.
+  const std::uint32_t n = std::min<std::uint32_t>(
+      list.count, static_cast<std::uint32_t>(perception::ObstacleList::kMaxSegments));
+  std::array<double, perception::ObstacleList::kMaxSegments> closest_m{};
+  std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> order{};
+  std::uint32_t m = 0;
+  for (std::uint32_t k = 0; k < n; ++k) {
+    const auto& seg = list.segments[k];
+    const double df = seg.end.forward_m - seg.begin.forward_m;
+    const double ds = seg.end.starboard_m - seg.begin.starboard_m;
+    const double d = closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds).d_m;
+    if (!(d <= max_range_m)) continue;
+    // Insertion by distance (a list of at most kMaxSegments, mostly a few dozen).
+    std::uint32_t at = m++;
+    while (at > 0 && closest_m[at - 1] > d) {
+      closest_m[at] = closest_m[at - 1];
+      order[at] = order[at - 1];
+      --at;
+    }
+    closest_m[at] = d;
+    order[at] = static_cast<std::uint16_t>(k);
+  }
+  double nearest = kNoObstacle;
+  for (std::uint32_t i = 0; i < m; ++i) {
+    if (closest_m[i] > nearest * (1.0 + 1e-9) + 1e-12) break;
+    visit_bins(list.segments[order[i]], corridor_half_width_m,
+               [&nearest](std::size_t, double d_min, double pf, double ps, bool at_closest) {
+                 nearest = std::min(nearest, at_closest ? d_min : std::hypot(pf, ps));
+               });
+  }
+  return nearest;
 }
 
 }  // namespace coxswain::guidance

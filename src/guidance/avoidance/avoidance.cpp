@@ -8,9 +8,20 @@
 #include <limits>
 
 #include "coxswain/core/angles.hpp"
+#include "coxswain/core/lanes.hpp"
 
 namespace coxswain::guidance {
 namespace {
+
+using core::lanes::abs2;
+using core::lanes::all2;
+using core::lanes::any2;
+using core::lanes::load2;
+using core::lanes::max2;
+using core::lanes::splat2;
+using core::lanes::store2;
+using core::lanes::V2d;
+using core::lanes::V2i;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTieEps = 1e-9;
@@ -158,6 +169,21 @@ double point_segment_sq(double pf, double ps, double af, double as, double df, d
   return ef * ef + es * es;
 }
 
+// point_segment_sq() for two points at once, lane by lane the same arithmetic (std::clamp(v, 0,
+// 1) is v < 0 ? 0 : (1 < v ? 1 : v)).
+V2d point_segment_sq2(V2d pf, V2d ps, V2d af, V2d as, V2d df, V2d ds, V2d inv_dd) {
+  const V2d wf = pf - af;
+  const V2d ws = ps - as;
+  const V2d zero = splat2(0.0);
+  const V2d one = splat2(1.0);
+  V2d t = (wf * df + ws * ds) * inv_dd;
+  t = t < zero ? zero : t;
+  t = one < t ? one : t;
+  const V2d ef = wf - t * df;
+  const V2d es = ws - t * ds;
+  return ef * ef + es * es;
+}
+
 // Margin of the culling tests: far above rounding (1e-15 m at these sizes), far below anything
 // that matters, so a culled pair is one the exact test would have passed over too.
 constexpr double kCullEps = 1e-6;
@@ -264,6 +290,10 @@ std::optional<Avoidance> Avoidance::create(const AvoidanceParams& params, std::s
 Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
   (void)bins_.configure(params.fan);  // validated by create()
   cost_per_deg_ = params.strategy == Strategy::kScore ? params.score_goal_weight / 180.0 : 1.0;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    center_deg_[j] = bins_.center_deg(j);
+    angle_term_[j] = params.score_angle_weight * (1.0 - std::abs(center_deg_[j]) / 180.0);
+  }
   // The pose at the end of each bin's turn: the pivot (pivot_ahead_m ahead of the origin) on a
   // circle of the turn radius, the origin pivot_ahead_m behind it along the new heading.
   const double p = params.pivot_ahead_m;
@@ -278,6 +308,16 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
     arc_end_s_m_[j] = sign * radius * (1.0 - arc_cos_[j]) - p * arc_sin_[j];
     arc_len_m_[j] = radius * a;
   }
+  // A point of the segment that lowers bin j's range below the detection range D lies within w
+  // of the corridor's centre line, less than D - arc length ahead of the turn's end: no farther
+  // from the origin than D + w + (the turn end's distance - its arc length).
+  double end_past_arc_m = 0.0;
+  for (std::size_t j = 0; j < bins_.size(); ++j) {
+    end_past_arc_m =
+        std::max(end_past_arc_m, std::hypot(arc_end_f_m_[j], arc_end_s_m_[j]) - arc_len_m_[j]);
+  }
+  path_reach_m_ =
+      params.detection_range_m + params.half_beam_m + params.clearance_m + end_past_arc_m + 1e-6;
   // Blocks of bins for the path ranges' first test: the corridors of a block's bins all lie in
   // the wedge between its first and last bin's directions, from its first bin's arc end,
   // widened by the farthest other arc end of the block (valid while the directions turn one
@@ -358,8 +398,33 @@ bool Avoidance::compute_costs(double limit_m) {
   bool any = false;
   // The score's hard block shrinks with the range once the range falls below it.
   const double block_m = std::min(params_.score_block_range_m, limit_m);
-  for (std::size_t j = 0; j < n; ++j) {
-    const double c = bins_.center_deg(j);
+  std::size_t j = 0;
+  if (params_.strategy == Strategy::kScore) {
+    // Two bins at a time, lane by lane the arithmetic below (a pair whose turn needs wrapping
+    // goes through it).
+    const V2d inf = splat2(kInf);
+    const V2d goal = splat2(goal_deg_);
+    const V2d port = splat2(sweep_port_deg_);
+    const V2d stbd = splat2(sweep_starboard_deg_);
+    const V2d limit = splat2(limit_m);
+    const V2d block = splat2(block_m);
+    for (; j + 1 < n; j += 2) {
+      const V2d c = load2(&center_deg_[j]);
+      const V2d diff = c - goal;
+      if (!all2((diff > splat2(-180.0)) & (diff <= splat2(180.0)))) break;
+      const V2d d = load2(&range_m_[j]);
+      const V2d base = params_.score_goal_weight * abs2(diff) / 180.0;
+      const V2d near =
+          base + (params_.score_distance_weight * (1.0 - d / limit) + load2(&angle_term_[j]));
+      V2d cost = d < limit ? near : base;
+      cost = (d < block) ? inf : cost;
+      cost = ((c > stbd) | (-c > port)) ? inf : cost;
+      store2(&cost_[j], cost);
+      any = any || cost[0] < kInf || cost[1] < kInf;
+    }
+  }
+  for (; j < n; ++j) {
+    const double c = center_deg_[j];
     const double d = range_m_[j];
     const double turn = std::abs(diff_deg(c, goal_deg_));
     double cost = kInf;
@@ -369,8 +434,7 @@ bool Avoidance::compute_costs(double limit_m) {
       if (!(d < block_m)) {
         cost = params_.score_goal_weight * turn / 180.0;
         if (d < limit_m) {
-          cost += params_.score_distance_weight * (1.0 - d / limit_m) +
-                  params_.score_angle_weight * (1.0 - std::abs(c) / 180.0);
+          cost += params_.score_distance_weight * (1.0 - d / limit_m) + angle_term_[j];
         }
       }
     } else if (!(d < limit_m)) {  // selection and risk bins: the limit is the threshold range
@@ -448,7 +512,35 @@ double Avoidance::speed_for(double nearest_m) const {
 void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
   const std::size_t n = bins_.size();
   out.danger.fill(0.0F);
-  for (std::size_t j = 0; j < n; ++j) {
+  std::size_t j = 0;
+  if (params_.strategy == Strategy::kScore) {
+    // Two bins at a time, lane by lane the arithmetic below.
+    const double w = params_.score_distance_weight + params_.score_angle_weight;
+    const V2d limit = splat2(limit_m);
+    const V2d port = splat2(sweep_port_deg_);
+    const V2d stbd = splat2(sweep_starboard_deg_);
+    const V2d zero = splat2(0.0);
+    const V2d one = splat2(1.0);
+    for (; j + 1 < n; j += 2) {
+      const V2d d = load2(&range_m_[j]);
+      const V2d c = load2(&center_deg_[j]);
+      V2d risk = params_.score_distance_weight * (1.0 - d / limit) + load2(&angle_term_[j]);
+      if (w > 0.0) {
+        risk = risk / w;
+        risk = risk < zero ? zero : risk;  // std::clamp(risk, 0, 1)
+        risk = one < risk ? one : risk;
+      } else {
+        risk = zero;
+      }
+      V2d danger = d < splat2(params_.detection_range_m) ? splat2(0.5) : zero;
+      danger = d < limit ? risk : danger;
+      danger = load2(&cost_[j]) < splat2(kInf) ? danger : one;
+      danger = ((c > stbd) | (-c > port)) ? one : danger;
+      out.danger[j] = static_cast<float>(danger[0]);
+      out.danger[j + 1] = static_cast<float>(danger[1]);
+    }
+  }
+  for (; j < n; ++j) {
     const double d = range_m_[j];
     double danger = 0.0;
     switch (params_.strategy) {
@@ -464,9 +556,7 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
           danger = 1.0;
         } else if (d < limit_m) {
           const double w = params_.score_distance_weight + params_.score_angle_weight;
-          const double risk =
-              params_.score_distance_weight * (1.0 - d / limit_m) +
-              params_.score_angle_weight * (1.0 - std::abs(bins_.center_deg(j)) / 180.0);
+          const double risk = params_.score_distance_weight * (1.0 - d / limit_m) + angle_term_[j];
           danger = w > 0.0 ? std::clamp(risk / w, 0.0, 1.0) : 0.0;
         } else if (d < params_.detection_range_m) {
           danger = 0.5;  // seen, but beyond the shrunken range
@@ -476,7 +566,7 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
         danger = d < limit_m ? 1.0 : (d < params_.detection_range_m ? 0.5 : 0.0);
         break;
     }
-    if (swept_out(bins_.center_deg(j))) danger = 1.0;
+    if (swept_out(center_deg_[j])) danger = 1.0;
     out.danger[j] = static_cast<float>(danger);
   }
 }
@@ -508,41 +598,68 @@ double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, in
     if (near_sq > outer * outer || (inner > 0.0 && far_sq < inner * inner)) continue;
     side_index_[n++] = static_cast<std::uint16_t>(i);
   }
-  const double step = params_.sweep_step_deg;
-  for (std::size_t k = 0; k < w.steps; ++k) {
-    const double c = w.cos[k];
-    const double sn = w.sin[k];
-    const double of = w.origin_f_m[k];
-    const double os = w.origin_s_m[k];
-    for (std::size_t m = 0; m < n; ++m) {
-      const std::size_t i = side_index_[m];
-      const auto& seg = obstacles.segments[sweep_index_[i]];
-      // The hull box lies within box_radius_m_ of its centre: a segment farther than that plus
-      // the room from the centre cannot touch it.
-      const double df = seg.end.forward_m - seg.begin.forward_m;
-      const double ds = seg.end.starboard_m - seg.begin.starboard_m;
-      const double dd = df * df + ds * ds;
-      const double reach = box_radius_m_ + sweep_room_m_[i] + kCullEps;
-      if (point_segment_sq(w.box_f_m[k], w.box_s_m[k], seg.begin.forward_m, seg.begin.starboard_m,
-                           df, ds, dd > 0.0 ? 1.0 / dd : 0.0) > reach * reach) {
-        continue;
-      }
+  // The first step at which any of them comes within its room of the hull box: each segment is
+  // stepped through only up to the first hit found so far (the answer is the least step over
+  // the segments, whatever their order), the box-centre distance tested two steps at a time.
+  std::size_t first_hit = w.steps;
+  for (std::size_t m = 0; m < n; ++m) {
+    const std::size_t i = side_index_[m];
+    const auto& seg = obstacles.segments[sweep_index_[i]];
+    // The hull box lies within box_radius_m_ of its centre: a segment farther than that plus
+    // the room from the centre cannot touch it.
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double df = seg.end.forward_m - af;
+    const double ds = seg.end.starboard_m - as;
+    const double dd = df * df + ds * ds;
+    const double inv_dd = dd > 0.0 ? 1.0 / dd : 0.0;
+    const double reach = box_radius_m_ + sweep_room_m_[i] + kCullEps;
+    const double reach_sq = reach * reach;
+    const auto touches = [&](std::size_t k) {
+      const double c = w.cos[k];
+      const double sn = w.sin[k];
       const auto to_future = [&](const core::BodyPoint& q, double& f, double& s_m) {
-        const double qf = q.forward_m - of;
-        const double qs = q.starboard_m - os;
+        const double qf = q.forward_m - w.origin_f_m[k];
+        const double qs = q.starboard_m - w.origin_s_m[k];
         f = qf * c + qs * sn;
         s_m = -qf * sn + qs * c;
       };
-      double af = 0.0;
-      double as = 0.0;
-      double bf = 0.0;
-      double bs = 0.0;
-      to_future(seg.begin, af, as);
-      to_future(seg.end, bf, bs);
-      if (segment_box_closer_than(af, as, bf, bs, box, sweep_room_m_[i])) return w.a_deg[k] - step;
+      double fa = 0.0;
+      double sa = 0.0;
+      double fb = 0.0;
+      double sb = 0.0;
+      to_future(seg.begin, fa, sa);
+      to_future(seg.end, fb, sb);
+      return segment_box_closer_than(fa, sa, fb, sb, box, sweep_room_m_[i]);
+    };
+    const V2d v_af = splat2(af);
+    const V2d v_as = splat2(as);
+    const V2d v_df = splat2(df);
+    const V2d v_ds = splat2(ds);
+    const V2d v_inv = splat2(inv_dd);
+    const V2d v_reach_sq = splat2(reach_sq);
+    std::size_t k = 0;
+    for (; k + 1 < first_hit; k += 2) {
+      const V2d near = point_segment_sq2(load2(&w.box_f_m[k]), load2(&w.box_s_m[k]), v_af, v_as,
+                                         v_df, v_ds, v_inv);
+      const V2i in = near <= v_reach_sq;
+      if (!any2(in)) continue;
+      if (in[0] != 0 && touches(k)) {
+        first_hit = k;
+        break;
+      }
+      if (in[1] != 0 && touches(k + 1)) {
+        first_hit = k + 1;
+        break;
+      }
+    }
+    if (k + 1 == first_hit &&
+        !(point_segment_sq(w.box_f_m[k], w.box_s_m[k], af, as, df, ds, inv_dd) > reach_sq) &&
+        touches(k)) {
+      first_hit = k;
     }
   }
-  return w.max_turn_deg;
+  return first_hit < w.steps ? w.a_deg[first_hit] - params_.sweep_step_deg : w.max_turn_deg;
 }
 
 void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
@@ -551,11 +668,18 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = bins_.range_m(j);
     return;
   }
-  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = AngleBins::kNoObstacle;
+  // Selection and score read a range only as "below the detection range or not" (every limit
+  // they compare it with is at most that range, and the room they sum is capped there): for them
+  // a bin starts at the detection range, and a segment or bin that cannot come nearer along the
+  // path is passed over. The risk bins' danger reads the range itself: every range counts.
   const double w = params_.half_beam_m + params_.clearance_m;
-  const double max_arc_m =
-      params_.sweep_turn_radius_m * core::kPi + std::abs(params_.pivot_ahead_m);
-  const double reach = params_.detection_range_m + max_arc_m;
+  const bool capped = params_.strategy != Strategy::kRiskBin;
+  const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
+  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = start_m;
+  const double reach = capped
+                           ? path_reach_m_
+                           : params_.detection_range_m + params_.sweep_turn_radius_m * core::kPi +
+                                 std::abs(params_.pivot_ahead_m);
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   for (std::uint32_t k = 0; k < count; ++k) {
@@ -577,6 +701,12 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     const double lateral = w + half_len + kCullEps;
     const double behind = -(half_len + kCullEps);
     const double near_back = half_len + kCullEps;
+    const V2d v_mid_f = splat2(mid_f);
+    const V2d v_mid_s = splat2(mid_s);
+    const V2d v_lateral = splat2(lateral);
+    const V2d v_behind = splat2(behind);
+    const V2d v_near_back = splat2(near_back);
+    const V2d v_zero = splat2(0.0);
     for (std::size_t b = 0; b < block_count_; ++b) {
       const BinBlock& blk = blocks_[b];
       if (blk.wedge) {
@@ -587,7 +717,22 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
         if (blk.hi_cos * qs - blk.hi_sin * qf > margin) continue;   // to starboard of it
       }
       const std::size_t j_end = std::min(n_bins, (b + 1) * kBlockBins);
-      for (std::size_t j = b * kBlockBins; j < j_end; ++j) {
+      std::size_t j = b * kBlockBins;
+      for (; j + 1 < j_end; j += 2) {  // two bins at a time; most are passed over
+        const V2d pf_mid = v_mid_f - load2(&arc_end_f_m_[j]);
+        const V2d ps_mid = v_mid_s - load2(&arc_end_s_m_[j]);
+        const V2d c = load2(&arc_cos_[j]);
+        const V2d sn = load2(&arc_sin_[j]);
+        const V2d f_mid = pf_mid * c + ps_mid * sn;
+        const V2d s_mid = -pf_mid * sn + ps_mid * c;
+        const V2i in =
+            (abs2(s_mid) <= v_lateral) & (f_mid >= v_behind) &
+            (load2(&arc_len_m_[j]) + max2(v_zero, f_mid - v_near_back) < load2(&range_m_[j]));
+        if (!any2(in)) continue;
+        if (in[0] != 0) path_range_exact(j, af, as, bf, bs, w);
+        if (in[1] != 0) path_range_exact(j + 1, af, as, bf, bs, w);
+      }
+      for (; j < j_end; ++j) {
         const double pf_mid = mid_f - arc_end_f_m_[j];
         const double ps_mid = mid_s - arc_end_s_m_[j];
         const double f_mid = pf_mid * arc_cos_[j] + ps_mid * arc_sin_[j];
@@ -652,6 +797,7 @@ void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
                       params_.half_beam_m};
     const double p = params_.pivot_ahead_m;
     const double clearance = params_.sweep_clearance_m;
+    const double box_mid_m = 0.5 * (box.aft_m + box.fore_m);
     // Farthest any hull point gets from the pivot's start on an arc of up to 180 deg.
     const double hull_reach =
         std::hypot(std::max(std::abs(box.aft_m - p), std::abs(box.fore_m - p)), box.half_m);
@@ -668,7 +814,16 @@ void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
         continue;
       }
       if (point_segment_farther_than(p, 0.0, af, as, bf, bs, reach)) continue;
-      const double now_m = segment_box_distance(af, as, bf, bs, box);
+      // A segment clearly farther than the clearance from the box's circumcircle keeps the
+      // clearance: its exact distance is wanted only when it may be nearer.
+      const double df = bf - af;
+      const double ds = bs - as;
+      const double dd = df * df + ds * ds;
+      const double clear = box_radius_m_ + clearance + kCullEps;
+      const double now_m = point_segment_sq(box_mid_m, 0.0, af, as, df, ds,
+                                            dd > 0.0 ? 1.0 / dd : 0.0) > clear * clear
+                               ? clearance
+                               : segment_box_distance(af, as, bf, bs, box);
       sweep_index_[sweep_count_] = static_cast<std::uint16_t>(k);
       sweep_room_m_[sweep_count_] = now_m >= clearance ? clearance : std::max(0.0, now_m - 1e-3);
       ++sweep_count_;
@@ -700,8 +855,16 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     out.nearest_m = geometry_nearest_m_;
   } else {
     const double hull_m = params_.half_beam_m + params_.clearance_m;
-    bins_.fill(obstacles, hull_m, params_.detection_range_m);
-    out.nearest_m = bins_.min_range_m();
+    if (params_.sweep_enabled) {
+      // The bins' ranges are wanted only if the swept hull leaves no way out (below); their
+      // least is found without them.
+      out.nearest_m = bins_.nearest_m(obstacles, hull_m, params_.detection_range_m);
+      bins_filled_ = false;
+    } else {
+      bins_.fill(obstacles, hull_m, params_.detection_range_m);
+      out.nearest_m = bins_.min_range_m();
+      bins_filled_ = true;
+    }
     compute_sweep(obstacles);
     compute_path_ranges(obstacles);
     geometry_count_ =
@@ -747,6 +910,10 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     sweep_starboard_deg_ = 180.0;
     out.sweep_port_deg = sweep_port_deg_;
     out.sweep_starboard_deg = sweep_starboard_deg_;
+    if (!bins_filled_) {
+      bins_.fill(obstacles, params_.half_beam_m + params_.clearance_m, params_.detection_range_m);
+      bins_filled_ = true;
+    }
     for (std::size_t j = 0; j < n; ++j) range_m_[j] = bins_.range_m(j);
     found = search();
     if (found) steps = std::max<std::uint8_t>(steps, 1);
@@ -863,6 +1030,7 @@ bool Avoidance::same_geometry(const perception::ObstacleList& obstacles) const {
 
 void Avoidance::decide_naive(const perception::ObstacleList& obstacles, AvoidanceDecision& out) {
   geometry_valid_ = false;  // the bins are used differently here
+  bins_filled_ = false;
   // Faithful to the 2022 code: an obstacle counts only if one of its END angles lies inside
   // the fan; its distance is that of its FIRST point; the margin is a FIXED angle; the bins from
   // the smaller to the larger end angle (plus margin) are dangerous.

@@ -80,7 +80,7 @@ bool LockstepRunner::step() {
   if (now >= next_tick_ns_) {
     next_tick_ns_ += tick_period_ns_;
     if (pilot_ != nullptr) {
-      store_->snapshot(*snapshot_);
+      store_->refresh(*snapshot_);  // the scan is copied only when a new one came
       msg::ActuatorCommand cmd = command_;
       pilot_->step(*snapshot_, now, cmd);
       cmd.stamp_ns = now;

@@ -117,7 +117,8 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
   result_.course = world.name;
   result_.rules = rules_for(world.kind);
   for (std::size_t i = 0; i < world.walls.size(); ++i) {
-    Obstacle o{"wall " + std::to_string(i), ObstacleKind::kWall, {}, {}, 0.0, false, {}, 0.0};
+    Obstacle o{
+        "wall " + std::to_string(i), ObstacleKind::kWall, {}, {}, 0.0, false, {}, 0.0, {}, 0.0};
     const auto& pts = world.walls[i].points;
     for (std::size_t k = 1; k < pts.size(); ++k) o.segments.emplace_back(pts[k - 1], pts[k]);
     obstacles_.push_back(std::move(o));
@@ -132,10 +133,12 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
          b.radius_m,
          false,
          {},
+         0.0,
+         {},
          0.0});
   }
   for (const auto& d : world.docks) {
-    Obstacle o{"dock " + d.name, ObstacleKind::kDock, {}, {}, 0.0, false, {}, 0.0};
+    Obstacle o{"dock " + d.name, ObstacleKind::kDock, {}, {}, 0.0, false, {}, 0.0, {}, 0.0};
     for (const auto& w : d.walls) {
       for (std::size_t k = 1; k < w.points.size(); ++k) {
         o.segments.emplace_back(w.points[k - 1], w.points[k]);
@@ -147,6 +150,26 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
   const auto outline = hull_outline_body(hull);
   std::vector<NavPoint> poly;
   for (const auto& p : outline) poly.push_back({p.forward_m, p.starboard_m});
+  for (Obstacle& o : obstacles_) {
+    if (o.segments.empty()) continue;
+    NavPoint lo = o.segments.front().first;
+    NavPoint hi = lo;
+    for (const auto& s : o.segments) {
+      for (const NavPoint& p : {s.first, s.second}) {
+        lo = {std::min(lo.north_m, p.north_m), std::min(lo.east_m, p.east_m)};
+        hi = {std::max(hi.north_m, p.north_m), std::max(hi.east_m, p.east_m)};
+      }
+    }
+    o.bound_center = {0.5 * (lo.north_m + hi.north_m), 0.5 * (lo.east_m + hi.east_m)};
+    for (const auto& s : o.segments) {
+      for (const NavPoint& p : {s.first, s.second}) {
+        o.bound_radius_m = std::max(o.bound_radius_m, core::distance_m(o.bound_center, p));
+      }
+    }
+  }
+  for (const core::BodyPoint& p : hull_outline_body(hull)) {
+    outline_radius_m_ = std::max(outline_radius_m_, std::hypot(p.forward_m, p.starboard_m));
+  }
   const double bow = hull.bow_overhang_m;
   for (int i = 0; i < 21; ++i) {
     for (int j = 0; j < 9; ++j) {
@@ -154,6 +177,9 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
                               hull.beam_m * ((j + 0.5) / 9.0 - 0.5)};
       if (world::point_in_polygon({p.forward_m, p.starboard_m}, poly)) samples_.push_back(p);
     }
+  }
+  for (const core::BodyPoint& p : samples_) {
+    samples_radius_m_ = std::max(samples_radius_m_, std::hypot(p.forward_m, p.starboard_m));
   }
   for (std::size_t i = 0; i < world.buoys.size() && result_.rules == Rules::k2026; ++i) {
     if (world.buoys[i].colour == msg::Colour::kPurple) {
@@ -182,9 +208,15 @@ double Scorer::clearance_m(std::size_t obstacle, const core::NavPose& pose) cons
 }
 
 double Scorer::fraction_inside(const core::NavPose& pose, const auto& inside) const {
+  // body_to_nav() for each sample with the heading's cosine and sine taken once (the same
+  // arithmetic, so the same points).
+  const double c = std::cos(core::deg_to_rad(pose.heading_deg));
+  const double sn = std::sin(core::deg_to_rad(pose.heading_deg));
   std::size_t count = 0;
   for (const auto& s : samples_) {
-    if (inside(core::body_to_nav(pose, s))) ++count;
+    const NavPoint p{pose.position.north_m + (c * s.forward_m - sn * s.starboard_m),
+                     pose.position.east_m + (sn * s.forward_m + c * s.starboard_m)};
+    if (inside(p)) ++count;
   }
   return samples_.empty() ? 0.0 : static_cast<double>(count) / static_cast<double>(samples_.size());
 }
@@ -246,7 +278,22 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
 
   // Collisions.
   const auto outline = hull_outline(hull_, truth.pose);
+  // The outline lies within outline_radius_m_ of the body origin: an obstacle not in contact
+  // whose distance from the origin exceeds that by more than the touch distance cannot be
+  // touched now, and then nothing below depends on its exact distance.
+  const NavPoint origin = truth.pose.position;
+  const double far_m = outline_radius_m_ + options_.touch_m + 1e-6;
+  const auto far_from = [&](const Obstacle& o) {
+    if (o.kind == ObstacleKind::kBuoy)
+      return core::distance_m(origin, o.center) - o.radius_m > far_m;
+    if (core::distance_m(origin, o.bound_center) - o.bound_radius_m > far_m) return true;
+    for (const auto& s : o.segments) {
+      if (world::point_segment_distance(origin, s.first, s.second) <= far_m) return false;
+    }
+    return true;
+  };
   for (Obstacle& o : obstacles_) {
+    if (!o.in_contact && far_from(o)) continue;
     double d = 0.0;
     if (o.kind == ObstacleKind::kBuoy) {
       d = outline_circle_distance(outline, o.center, o.radius_m);
@@ -286,6 +333,12 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
     const bool already = std::any_of(result_.waypoints.begin(), result_.waypoints.end(),
                                      [&](const Passage& p) { return p.name == wp.name; });
     if (already) continue;
+    // No sample lies within samples_radius_m_ of the body origin: a circle farther than that
+    // holds none of them.
+    if (core::distance_m(truth.pose.position, wp.position) >
+        wp.radius_m + samples_radius_m_ + 1e-6) {
+      continue;
+    }
     const double f = fraction_inside(
         truth.pose, [&](NavPoint p) { return core::distance_m(p, wp.position) <= wp.radius_m; });
     if (f >= 0.5) {
@@ -312,8 +365,16 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
     const bool already = std::any_of(result_.docks.begin(), result_.docks.end(),
                                      [&](const Passage& p) { return p.name == d.name; });
     if (already) continue;
+    // The slip lies within its half diagonal of its centre: farther than that plus the samples'
+    // reach, no sample is in it.
     const NavPoint fwd = world::heading_unit(d.entry_heading_deg);
     const NavPoint right = world::heading_unit(d.entry_heading_deg + 90.0);
+    const NavPoint slip_center{d.entrance.north_m + 0.5 * d.depth_m * fwd.north_m,
+                               d.entrance.east_m + 0.5 * d.depth_m * fwd.east_m};
+    if (core::distance_m(truth.pose.position, slip_center) >
+        0.5 * std::hypot(d.depth_m, d.width_m) + samples_radius_m_ + 1e-6) {
+      continue;
+    }
     const double f = fraction_inside(truth.pose, [&](NavPoint p) {
       const NavPoint rel = sub(p, d.entrance);
       const double along = world::dot(rel, fwd);

@@ -138,6 +138,9 @@ class Scorer {
     bool in_contact = false;
     core::NavPoint anchor;  // where the CG was when the contact (or its last 2 m) began
     double anchor_s = 0.0;
+    // A circle holding every segment (walls and docks), for passing over far ones cheaply.
+    core::NavPoint bound_center;
+    double bound_radius_m = 0.0;
   };
   [[nodiscard]] double fraction_inside(const core::NavPose& pose, const auto& inside) const;
   void finish_course(std::size_t index, double t_s);
@@ -149,6 +152,8 @@ class Scorer {
   ScoringOptions options_;
   std::vector<Obstacle> obstacles_;
   std::vector<core::BodyPoint> samples_;  // grid over the hull area
+  double outline_radius_m_ = 0.0;         // farthest outline corner from the body origin
+  double samples_radius_m_ = 0.0;         // farthest sample from the body origin
   ScoreResult result_;
   std::size_t next_waypoint_ = 0;
   std::size_t next_gate_ = 0;

@@ -401,9 +401,9 @@ TEST(LidarClusterer, DeterministicAndAllocationFree) {
   EXPECT_EQ(a->profile.closest_range_m, b->profile.closest_range_m);
 }
 
-// The per-beam trigonometry is kept from scan to scan: whatever came before (the same
-// geometry, returns missing, angles drifting, an unsorted or odd scan), a long-lived clusterer
-// gives bit for bit what a fresh one gives for the same scan.
+// Nothing is kept from scan to scan: whatever came before (the same geometry, returns missing,
+// angles drifting, an unsorted or odd scan), a long-lived clusterer gives bit for bit what a
+// fresh one gives for the same scan.
 TEST(LidarClusterer, ScanHistoryDoesNotChangeTheResult) {
   SceneBuilder scene;
   scene.walls.push_back({BodyPoint{6.0, -3.0}, BodyPoint{6.0, 3.0}});
@@ -448,6 +448,70 @@ TEST(LidarClusterer, ScanHistoryDoesNotChangeTheResult) {
       EXPECT_EQ(a->profile.closest_range_m, b->profile.closest_range_m);
       EXPECT_EQ(kept.last_stats().points_kept, b->stats.points_kept);
     }
+  }
+}
+
+// The table-and-series trigonometry that turns every return into a point, against the library's.
+TEST(LidarClusterer, BeamTrigonometryIsWithinAFloatsRounding) {
+  const LidarClusterer clusterer{LidarClusterParams{}};
+  double worst = 0.0;
+  const auto check = [&](float bearing_deg) {
+    float c = 0.0F;
+    float s = 0.0F;
+    clusterer.unit_of(bearing_deg, c, s);
+    const double a = core::deg_to_rad(static_cast<double>(bearing_deg));
+    worst = std::max(worst, std::abs(static_cast<double>(c) - std::cos(a)));
+    worst = std::max(worst, std::abs(static_cast<double>(s) - std::sin(a)));
+  };
+  for (int i = 0; i <= 1440; ++i) {  // the table's own steps and just beside them
+    const auto b = static_cast<float>(-180.0 + 0.25 * i);
+    check(b);
+    if (i > 0) check(std::nextafter(b, -200.0F));
+    if (i < 1440) check(std::nextafter(b, 200.0F));
+  }
+  for (int i = 0; i < 200000; ++i) {  // and everywhere between
+    check(static_cast<float>(-180.0 + 360.0 * (i + 0.37) / 200000.0));
+  }
+  EXPECT_LT(worst, 1.5e-7);
+}
+
+// Returns go through the four-at-a-time path or one by one depending on their neighbours (a
+// dropped return among them); either way each becomes the same point, bit for bit.
+TEST(LidarClusterer, APointDoesNotDependOnItsNeighbours) {
+  SceneBuilder scene;
+  scene.walls.push_back({BodyPoint{5.0, -2.0}, BodyPoint{5.0, 2.0}});
+  scene.circles.push_back({BodyPoint{-2.0, 3.0}, 0.3});
+  scene.circles.push_back({BodyPoint{1.0, -3.5}, 0.25});
+  const auto base = scene.scan();
+  for (std::uint32_t i = 0; i < base->point_count; ++i) {
+    base->points[i].bearing_deg += 0.1234F;  // between the trigonometry table's entries
+  }
+  LidarClusterParams params;
+  params.min_group_points = 1;  // every return counts
+  const auto a = run(params, *base);
+  for (std::uint32_t shift = 1; shift <= 3; ++shift) {
+    // The same returns, moved along the lanes by dropped returns (range 0) in front and between
+    // them: many now go one by one.
+    auto moved = std::make_unique<msg::LidarScan>();
+    for (std::uint32_t i = 0; i < shift; ++i) {
+      ASSERT_TRUE(moved->push({-179.9F + 0.01F * static_cast<float>(i), 0.0F, 0, 0}));
+    }
+    for (std::uint32_t i = 0; i < base->point_count; ++i) {
+      msg::LidarPoint p = base->points[i];
+      if (i % (4 + shift) == 0) {
+        ASSERT_TRUE(moved->push({p.bearing_deg, 0.0F, 0, 0}));
+      }
+      ASSERT_TRUE(moved->push(p));
+    }
+    const auto b = run(params, *moved);
+    ASSERT_EQ(a->list.count, b->list.count);
+    for (std::uint32_t i = 0; i < a->list.count; ++i) {
+      const ObstacleSegment& x = a->list.segments[i];
+      const ObstacleSegment& y = b->list.segments[i];
+      EXPECT_EQ(std::memcmp(&x.begin, &y.begin, sizeof(x.begin)), 0) << "segment " << i;
+      EXPECT_EQ(std::memcmp(&x.end, &y.end, sizeof(x.end)), 0) << "segment " << i;
+    }
+    EXPECT_EQ(a->profile.closest_range_m, b->profile.closest_range_m);
   }
 }
 
