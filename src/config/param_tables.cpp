@@ -724,6 +724,29 @@ constexpr std::array kDocking{
         "slip finder: the slip's axis within this of the forward direction"),
     real_param<DockingConfig, &DockingConfig::slip, &SlipFinderParams::max_range_m>(
         "slip_max_range_m", "m", 1e-3, 100.0, kFixed, "slip finder: farther tips are ignored"),
+    real_param<DockingConfig, &DockingConfig::stage_distance_m>(
+        "stage_distance_m", "m", 1e-3, 100.0, kFixed,
+        "2026: a slip seen off its axis, or missed, is approached again from this far out"),
+    real_param<DockingConfig, &DockingConfig::turn_radius_m>(
+        "turn_radius_m", "m", 0.1, 20.0, kFixed,
+        "2026: the boat's turning circle at approach speed, to line up on a slip's axis"),
+    real_param<DockingConfig, &DockingConfig::approach_funnel_deg>(
+        "approach_funnel_deg", "deg", 0.0, 90.0, kFixed,
+        "2026: straight in only from within this of the slip's axis, seen from its mouth"),
+    real_param<DockingConfig, &DockingConfig::entry_tolerance_m>(
+        "entry_tolerance_m", "m", 1e-3, 10.0, kFixed,
+        "2026: at the commit range this near the slip's axis, or back off and line up again"),
+    real_param<DockingConfig, &DockingConfig::entry_tolerance_deg>(
+        "entry_tolerance_deg", "deg", 0.5, 90.0, kFixed,
+        "2026: at the commit range the track along the axis within this, or back off"),
+    real_param<DockingConfig, &DockingConfig::back_off_s>(
+        "back_off_s", "s", 0.0, 60.0, kFixed,
+        "2026: astern at most this long before lining up again"),
+    real_param<DockingConfig, &DockingConfig::back_off_thrust_frac>(
+        "back_off_thrust_frac", "", 0.0, 1.0, kFixed, "2026: thrust astern while backing off"),
+    real_param<DockingConfig, &DockingConfig::finger_side_m>(
+        "finger_side_m", "m", 1e-3, 10.0, kFixed,
+        "2026: docked only when the lidar sees a finger this near each side"),
 };
 
 using guidance::GateParams;

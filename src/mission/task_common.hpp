@@ -121,6 +121,12 @@ class SlipTracker {
     line_.reset();
     last_ns_ = core::kNeverNs;
   }
+  /// Starts the line following afresh (a new approach): the integral and its timer cleared, the
+  /// slip kept.
+  void restart_line() {
+    line_.reset();
+    last_ns_ = core::kNeverNs;
+  }
   /// Adds one sighting (body frame of `pose`). A sighting more than kGateM from the track is a
   /// different gap and ignored, unless the track has seen nothing else for kRestartAfter scans.
   /// Returns whether it was taken.

@@ -104,6 +104,17 @@ struct DockingConfig {
   double sweep_standoff_m = 4.5;         // 2026: distance kept from the far wall while sweeping
   double sweep_turn_back_m = 3.0;        // 2026: a side wall this near turns the sweep back
   guidance::SlipFinderParams slip;       // 2026: the slip mouth in the lidar profile
+  double stage_distance_m = 9.0;         // 2026: a slip seen off its axis, or missed, is
+                                         // approached again from this far out on its axis
+  double turn_radius_m = 1.9;            // 2026: the boat's turning circle (to line up on it)
+  double approach_funnel_deg = 30.0;     // 2026: straight in from where the slip is first seen
+                                         // only within this of its axis, seen from the mouth
+  double entry_tolerance_m = 0.3;        // 2026: at the commit range the boat is this near the
+  double entry_tolerance_deg = 15.0;     // slip's axis and its track runs along it within this,
+                                         // or it backs off and lines up again
+  double back_off_s = 10.0;              // 2026: astern at most this long before lining up again
+  double back_off_thrust_frac = 0.5;     // 2026: thrust astern while backing off
+  double finger_side_m = 1.2;            // 2026: docked only with a finger this near each side
 };
 
 /// Navigation estimate (inside the core).

@@ -102,6 +102,21 @@ struct SlipFinderParams {
                                                           double marker_depth_m,
                                                           double max_error_deg);
 
+/// What the lidar sees along the hull's sides: on each side, a wall (a finger, a slip's side)
+/// abeam of the lidar and again `aft_m` behind it, both within `max_side_m` of the centre line and
+/// parallel to it within `max_skew_m`. A boat whose bow is in a slip has both fingers so; a boat
+/// beside a slip, or nosed into a corner, has at most one side so. Distances are across the
+/// centre line; -1 for a side without such a wall.
+struct FingersAlongside {
+  double port_m = -1.0;
+  double starboard_m = -1.0;
+  [[nodiscard]] bool both() const { return port_m >= 0.0 && starboard_m >= 0.0; }
+};
+
+[[nodiscard]] FingersAlongside fingers_alongside(const perception::RangeProfile& profile,
+                                                 double max_side_m, double aft_m,
+                                                 double max_skew_m = 0.3);
+
 /// Ray pursuit in the body frame: heading change (body bearing, + starboard) toward a point
 /// `lookahead_m` along the slip's axis beyond the boat's projection on it, so the boat lines up
 /// with the axis before it reaches the mouth instead of cutting the corner.

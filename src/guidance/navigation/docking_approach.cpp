@@ -219,6 +219,40 @@ std::optional<SlipOpening> find_slip_toward(const perception::RangeProfile& prof
   return best;
 }
 
+FingersAlongside fingers_alongside(const perception::RangeProfile& profile, double max_side_m,
+                                   double aft_m, double max_skew_m) {
+  const std::size_t bins = std::min<std::size_t>(profile.bin_count, profile.closest_range_m.size());
+  const double w = static_cast<double>(profile.bin_width_deg);
+  FingersAlongside out;
+  if (!(w > 0.0) || !(max_side_m > 0.0)) return out;
+  // Nearest distance across the centre line of the returns in two bands along the hull, per
+  // side: abeam of the lidar and `aft_m` behind it (each +-kBandM long).
+  constexpr double kBandM = 0.25;
+  constexpr double kNone = 1e9;
+  std::array<std::array<double, 2>, 2> nearest{};  // [side: 0 port, 1 starboard][band]
+  for (auto& side : nearest) side.fill(kNone);
+  for (std::size_t i = 0; i < bins; ++i) {
+    const float r = profile.closest_range_m[i];
+    if (!(r > 0.0F) || r >= perception::RangeProfile::kNoReturn) continue;
+    const double b = core::deg_to_rad(-180.0 + (static_cast<double>(i) + 0.5) * w);
+    const double x = static_cast<double>(r) * std::cos(b);
+    const double y = static_cast<double>(r) * std::sin(b);
+    const std::size_t side = y < 0.0 ? 0 : 1;
+    const double across = std::abs(y);
+    if (std::abs(x) <= kBandM) nearest[side][0] = std::min(nearest[side][0], across);
+    if (std::abs(x + aft_m) <= kBandM) nearest[side][1] = std::min(nearest[side][1], across);
+  }
+  const auto side_m = [&](std::size_t side) {
+    const double abeam = nearest[side][0];
+    const double aft = nearest[side][1];
+    if (abeam > max_side_m || aft > max_side_m || std::abs(abeam - aft) > max_skew_m) return -1.0;
+    return std::min(abeam, aft);
+  };
+  out.port_m = side_m(0);
+  out.starboard_m = side_m(1);
+  return out;
+}
+
 double slip_pursuit_bearing_deg(const SlipOpening& slip, double lookahead_m) {
   const double a = core::deg_to_rad(slip.axis_body_deg);
   const double ux = std::cos(a);

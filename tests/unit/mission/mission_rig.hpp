@@ -140,7 +140,7 @@ class Rig {
       gnss({position.north_m + gnss_bias.north_m, position.east_m + gnss_bias.east_m}, gnss_usable);
     }
     if (live_lidar && (tick_count_ % 5 == 0)) {  // 10 Hz
-      if (!world_buoys.empty()) scan_world();
+      if (!world_buoys.empty() || !world_walls.empty()) scan_world();
       lidar();
     }
     if (live_arduino && (tick_count_ % 5 == 0)) publish_arduino();
@@ -189,9 +189,10 @@ class Rig {
     return p <= 1550.0 ? 0.0 : (p - 1550.0) / (1900.0 - 1550.0);
   }
 
-  /// Rebuilds `scan` from `world_buoys` as seen from the boat's pose.
-  /// A 0.5-degree revolution: each buoy's returns, buoy by buoy (the rig does not occlude), then
-  /// a "no return" (range 0) on each bearing over open water, as the scanner gives it.
+  /// Rebuilds `scan` from `world_buoys` and `world_walls` as seen from the boat's pose: a
+  /// 0.5-degree revolution, each buoy's returns buoy by buoy (the rig does not occlude), one ray
+  /// per bearing to the nearest wall, then a "no return" (range 0) on each bearing over open
+  /// water, as the scanner gives it.
   void scan_world() {
     scan.clear();
     const core::NavPose pose{position, heading_deg};
@@ -199,9 +200,31 @@ class Rig {
       const core::BodyPoint p = core::nav_to_body(pose, b.centre);
       add_circle(scan, p.forward_m, p.starboard_m, b.radius_m);
     }
+    // One ray per 0.5 degrees, to the nearest wall within the lidar's 12 m.
+    for (int i = 0; i < 720 && !world_walls.empty(); ++i) {
+      const double b = -180.0 + 0.5 * i + 0.25;
+      const double dx = std::cos(core::deg_to_rad(b));
+      const double dy = std::sin(core::deg_to_rad(b));
+      double nearest = 12.0;
+      for (const WorldWall& w : world_walls) {
+        const core::BodyPoint p0 = core::nav_to_body(pose, w.from);
+        const core::BodyPoint p1 = core::nav_to_body(pose, w.to);
+        const double ex = p1.forward_m - p0.forward_m;
+        const double ey = p1.starboard_m - p0.starboard_m;
+        const double den = dx * ey - dy * ex;
+        if (std::abs(den) < 1e-12) continue;
+        const double t = (p0.forward_m * ey - p0.starboard_m * ex) / den;  // along the ray
+        const double u = (p0.forward_m * dy - p0.starboard_m * dx) / den;  // along the wall
+        if (t > 0.05 && u >= 0.0 && u <= 1.0) nearest = std::min(nearest, t);
+      }
+      if (nearest < 12.0) {
+        (void)scan.push({static_cast<float>(b), static_cast<float>(nearest), 200, 0});
+      }
+    }
     std::array<bool, 720> covered{};
     for (std::uint32_t k = 0; k < scan.point_count; ++k) {
-      const long bin = std::lround((static_cast<double>(scan.points[k].bearing_deg) + 180.0) * 2.0);
+      const auto bin = static_cast<long>(
+          std::floor((static_cast<double>(scan.points[k].bearing_deg) + 180.0) * 2.0));
       covered[static_cast<std::size_t>(std::clamp(bin, 0L, 719L))] = true;
     }
     for (std::size_t i = 0; i < covered.size(); ++i) {
@@ -209,6 +232,11 @@ class Rig {
         (void)scan.push({static_cast<float>(-180.0 + 0.5 * static_cast<double>(i)), 0.0F, 0, 0});
     }
   }
+  struct WorldWall {
+    core::NavPoint from;
+    core::NavPoint to;
+  };
+  std::vector<WorldWall> world_walls;
   /// Publishes a camera frame of the `world_objects` inside the camera's field of view.
   void see_world() {
     auto& s = snap->camera;

@@ -491,5 +491,33 @@ TEST(DockingApproach, AGapBetweenTwoBuoysWithOpenWaterBehindIsNoSlip) {
   EXPECT_TRUE(find_slip(p, SlipFinderParams{}, 0.0).has_value());
 }
 
+TEST(DockingApproach, FingersAlongsideOnlyWhenTheBowIsBetweenTwoFingers) {
+  // In a 1.6 m slip 2 m deep (the boat's bow, where the lidar is, 1.5 m in and 0.2 m to
+  // starboard of its axis): a finger along each side.
+  const auto slip_from = [](double bow_in_m, double starboard_m) {
+    const double mouth = -bow_in_m;
+    return std::vector<Wall2d>{{mouth, -0.8 - starboard_m, mouth + 2.0, -0.8 - starboard_m},
+                               {mouth, 0.8 - starboard_m, mouth + 2.0, 0.8 - starboard_m},
+                               {mouth + 2.0, -12.0, mouth + 2.0, 12.0}};
+  };
+  const FingersAlongside in = fingers_alongside(cast(slip_from(1.5, 0.2)), 1.2, 0.6);
+  ASSERT_TRUE(in.both());
+  EXPECT_NEAR(in.port_m, 1.0, 0.05);
+  EXPECT_NEAR(in.starboard_m, 0.6, 0.05);
+  // Only the bow in the mouth (0.3 m): the fingers do not reach half the hull aft.
+  EXPECT_FALSE(fingers_alongside(cast(slip_from(0.3, 0.0)), 1.2, 0.6).both());
+  // Beside the slip, against a finger's outer side: a finger to port only.
+  const FingersAlongside beside = fingers_alongside(cast(slip_from(1.5, 1.3)), 1.2, 0.6);
+  EXPECT_FALSE(beside.both());
+  EXPECT_GT(beside.port_m, 0.0);
+  EXPECT_LT(beside.starboard_m, 0.0);
+  // Nosed into a corner, its apex 0.5 m ahead: a wall within reach on each side, but at 45
+  // degrees to the hull, not along it.
+  const std::vector<Wall2d> corner{{0.5, 0.0, -3.0, -3.5}, {0.5, 0.0, -3.0, 3.5}};
+  EXPECT_FALSE(fingers_alongside(cast(corner), 1.2, 0.6).both());
+  // Fingers farther than the limit are not alongside.
+  EXPECT_FALSE(fingers_alongside(cast(slip_from(1.5, 0.2)), 0.9, 0.6).both());
+}
+
 }  // namespace
 }  // namespace coxswain::guidance
