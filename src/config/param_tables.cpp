@@ -811,6 +811,9 @@ constexpr std::array kPlanning{
         "speed factor with the unseen right ahead (it rises in proportion to the seen run)"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::lookahead_m>(
         "planner.lookahead_m", "m", 0.1, 50.0, kFixed, "the sub-goal's distance along the path"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::line_of_sight_min_m>(
+        "planner.line_of_sight_min_m", "m", 0.0, 50.0, kFixed,
+        "the sub-goal comes nearer, down to this, until the boat can steer straight at it"),
     int_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::max_expansions>(
         "planner.max_expansions", "", 1, 1 << 20, kFixed, "A* expansion budget per plan"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::goal_search_m>(

@@ -60,10 +60,15 @@ struct MapPlannerParams {
   // its obstacles as it is, and the path must be free to reach it there.
   double goal_fade_m = 4.0;
   // Never outrun the lidar: full speed only while the path ahead runs this far through water
-  // already seen; nearer the unseen, the speed falls in proportion, down to the floor.
-  double sight_full_speed_m = 8.0;
+  // already seen; nearer the unseen, the speed falls in proportion, down to the floor. Off by
+  // default: on the dead-end family it cost successes (a slow single-thruster boat is set onto
+  // the walls by the current; docs/results.md).
+  double sight_full_speed_m = 0.0;
   double sight_min_speed_factor = 0.4;
   double lookahead_m = 3.0;              // the sub-goal's distance along the path
+  // The sub-goal comes nearer, down to this along the path, until the boat can steer straight
+  // at it (never round a corner); lookahead_m: always lookahead_m along the path.
+  double line_of_sight_min_m = 0.25;
   std::uint32_t max_expansions = 60000;  // A* budget per plan (bounds its time)
   double goal_search_m = 1.5;            // a blocked goal moves to the nearest free cell this near
   // No path: stop, back off, turn to look, replan; never drive at the goal.
@@ -207,7 +212,8 @@ class MapPlanner {
   /// `position` (capped at `limit_m`; a path ending before that in seen water gives the cap).
   [[nodiscard]] double seen_ahead_m(const NavMap& map, core::NavPoint position,
                                     double limit_m) const;
-  /// The point `lookahead_m` along the path past the point of it nearest `position`.
+  /// The farthest point of the path, at most `lookahead_m` along it past the point of it nearest
+  /// `position`, that the boat reaches on a clear straight line (so never round a corner).
   [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position) const;
   [[nodiscard]] GridView view() const;
   [[nodiscard]] const MapPlannerParams& params() const { return params_; }

@@ -56,6 +56,7 @@ std::optional<std::string> MapPlannerParams::validate() const {
     return "planner: clearance_cost and unknown_cost in [0, 15]";
   }
   if (!finite_pos(lookahead_m)) return "planner: lookahead_m > 0";
+  if (!finite_nonneg(line_of_sight_min_m)) return "planner: line_of_sight_min_m >= 0";
   if (max_expansions == 0) return "planner: max_expansions > 0";
   if (!finite_nonneg(goal_search_m) || goal_search_m > 5.0) {
     return "planner: goal_search_m in [0, 5]";
@@ -637,6 +638,9 @@ double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, doub
   core::NavPoint at;
   const std::size_t first = nearest_on_path(position, at);
   const double step = 0.5 * resolution_m_;
+  // The water under and right round the boat is nearer than the map takes returns from; the
+  // boat is on it, so it counts as seen.
+  const double blind_m = map.params().min_range_m + 1.5 * resolution_m_;
   double run = 0.0;
   for (std::size_t i = first; i + 1 < path_.size(); ++i) {
     const double seg = core::distance_m(at, path_[i + 1]);
@@ -646,7 +650,9 @@ double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, doub
                                   at.east_m + f * (path_[i + 1].east_m - at.east_m)});
       if (!c) return std::min(run + s, limit_m);
       const std::size_t k = map.index(*c);
-      if (!map.known(k) && map.log_odds(k) == 0.0F) return std::min(run + s, limit_m);
+      if (!map.known(k) && map.log_odds(k) == 0.0F && run + s >= blind_m) {
+        return std::min(run + s, limit_m);
+      }
       if (run + s >= limit_m) return limit_m;
     }
     run += seg;
@@ -679,11 +685,12 @@ std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const
   // The farthest point within the look-ahead the boat can steer straight at: a sub-goal round
   // a corner would have the boat cut it.
   const double step = resolution_m_;
-  for (double ahead = params_.lookahead_m; ahead > step; ahead -= step) {
+  const double nearest_m = std::min(params_.line_of_sight_min_m, params_.lookahead_m);
+  for (double ahead = params_.lookahead_m; ahead > nearest_m; ahead -= step) {
     const core::NavPoint q = along(ahead);
     if (line_clear(position, q)) return q;
   }
-  return along(std::min(step, params_.lookahead_m));
+  return along(nearest_m);
 }
 
 }  // namespace coxswain::guidance

@@ -130,6 +130,71 @@ TEST(NavMap, RejectsInvalidParametersAndAreasTooLargeForTheCells) {
   EXPECT_THROW(NavMap(p, {}, {}), std::invalid_argument);
 }
 
+// A square post `side_m` wide centred on `c`, as four walls.
+std::vector<std::pair<NavPoint, NavPoint>> post(NavPoint c, double side_m) {
+  const double h = 0.5 * side_m;
+  const NavPoint a{c.north_m - h, c.east_m - h};
+  const NavPoint b{c.north_m - h, c.east_m + h};
+  const NavPoint d{c.north_m + h, c.east_m + h};
+  const NavPoint e{c.north_m + h, c.east_m - h};
+  return {{a, b}, {b, d}, {d, e}, {e, a}};
+}
+
+TEST(NavMap, ABuoySeenBetweenBeamsThatPassBesideItStaysAnObstacle) {
+  // The beams either side of a small buoy cross the corners of its cells; were they cleared
+  // beam by beam, a boat sailing past would erase the buoy while still seeing it.
+  NavMap m(small_map(), {}, {});
+  const NavPoint buoy{5.0, 1.1};
+  for (int i = 0; i <= 40; ++i) {
+    const core::NavPose pose{{0.15 * i, 0.0}, 0.0};
+    m.add_scan(scan_of(pose, post(buoy, 0.12)), pose, kHull);
+  }
+  // The cell the near face of the buoy lies in, seen from every pose.
+  EXPECT_TRUE(occupied_at(m, {buoy.north_m - 0.05, buoy.east_m}));
+  // No cell holding a piece of the buoy's outline was ever taken for open water.
+  for (const auto& [a, b] : post(buoy, 0.12)) {
+    for (int k = 0; k <= 15; ++k) {
+      const double t = k / 15.0;
+      const NavPoint q{a.north_m + t * (b.north_m - a.north_m),
+                       a.east_m + t * (b.east_m - a.east_m)};
+      const auto c = m.cell_of(q);
+      ASSERT_TRUE(c);
+      EXPECT_GE(m.log_odds(m.index(*c)), 0.0F) << q.north_m << ", " << q.east_m;
+    }
+  }
+  // The water before it, crossed by every beam, is seen free.
+  const auto c = m.cell_of({4.0, 1.0});
+  ASSERT_TRUE(c);
+  EXPECT_LT(m.log_odds(m.index(*c)), 0.0F);
+}
+
+TEST(NavMap, ABeamWithNoReturnClearsItsWholeLengthUnlessToldNotTo) {
+  msg::LidarScan open_water;
+  open_water.max_range_m = 25.0F;
+  for (int i = 0; i < 720; ++i)
+    (void)open_water.push({-180.0F + 0.5F * static_cast<float>(i), 0.0F, 0, 0});
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  NavMap m(small_map(), {}, {});
+  m.add_scan(open_water, pose, kHull);
+  for (const NavPoint p : {NavPoint{5.0, 0.0}, NavPoint{-6.0, 4.0}, NavPoint{0.0, 10.0}}) {
+    const auto c = m.cell_of(p);
+    ASSERT_TRUE(c);
+    EXPECT_LT(m.log_odds(m.index(*c)), 0.0F) << p.north_m << ", " << p.east_m;
+  }
+  const auto far = m.cell_of({0.0, 15.0});  // beyond map.max_range_m (12 m)
+  ASSERT_TRUE(far);
+  EXPECT_EQ(m.log_odds(m.index(*far)), 0.0F);
+  EXPECT_TRUE(m.lidar_occupied().empty());
+
+  NavMapParams p = small_map();
+  p.no_return_clears = false;
+  NavMap strict(p, {}, {});
+  strict.add_scan(open_water, pose, kHull);
+  const auto c = strict.cell_of({5.0, 0.0});
+  ASSERT_TRUE(c);
+  EXPECT_EQ(strict.log_odds(strict.index(*c)), 0.0F);
+}
+
 // A dead end open toward the boat: the goal lies straight on behind its back wall.
 std::vector<std::pair<NavPoint, NavPoint>> u_walls() {
   return {{{10.0, -3.0}, {10.0, 3.0}}, {{5.0, -3.0}, {10.0, -3.0}}, {{5.0, 3.0}, {10.0, 3.0}}};
@@ -209,6 +274,76 @@ TEST(MapPlanner, KnownNoGoAreasAreInflatedAndPlannedAround) {
   double widest = 0.0;
   for (const NavPoint& q : planner.path()) widest = std::max(widest, std::abs(q.east_m));
   EXPECT_GT(widest, 6.5);  // round the polygon's end with the hull's clearance
+}
+
+// The path's least distance from a wall along the line to the goal, 1 m to its side.
+double least_distance_from_side_wall(const MapPlannerParams& params) {
+  NavMap m(small_map(), {}, {});
+  const std::vector<std::pair<NavPoint, NavPoint>> wall{{{2.0, 1.0}, {18.0, 1.0}}};
+  for (const double n : {0.0, 6.0, 12.0}) {
+    const core::NavPose pose{{n, -2.0}, 0.0};
+    m.add_scan(scan_of(pose, wall), pose, kHull);
+  }
+  MapPlanner planner(m, params, 0.45);
+  EXPECT_EQ(planner.plan(m, {0.0, 0.0}, {20.0, 0.0}), PlanStatus::kOk);
+  double least = 1e9;
+  const auto& path = planner.path();
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    for (int k = 0; k <= 100; ++k) {
+      const double t = k / 100.0;
+      const NavPoint q{path[i - 1].north_m + t * (path[i].north_m - path[i - 1].north_m),
+                       path[i - 1].east_m + t * (path[i].east_m - path[i - 1].east_m)};
+      if (q.north_m > 5.0 && q.north_m < 15.0) least = std::min(least, 1.0 - q.east_m);
+    }
+  }
+  return least;
+}
+
+TEST(MapPlanner, ThePathKeepsItsDistanceFromAWallWhereThereIsRoom) {
+  MapPlannerParams hard_only;
+  hard_only.clearance_cost = 0.0;
+  const double without = least_distance_from_side_wall(hard_only);
+  const double with = least_distance_from_side_wall(MapPlannerParams{});
+  EXPECT_LT(without, 1.3);  // the straight line, 1 m off (outside the 0.65 m inflation)
+  EXPECT_GT(with, without + 0.5);
+}
+
+TEST(MapPlanner, TheSubGoalIsReachedInAStraightLineNeverRoundACorner) {
+  // A wall across the way with a gap at its west end: the path turns the wall's end, and the
+  // sub-goal stays on the near side of the turn until the boat can see past it.
+  NavMap m(small_map(), {}, {});
+  const std::vector<std::pair<NavPoint, NavPoint>> wall{{{6.0, -3.0}, {6.0, 12.0}}};
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  m.add_scan(scan_of(pose, wall), pose, kHull);
+  MapPlannerParams params;
+  params.lookahead_m = 12.0;
+  MapPlanner planner(m, params, 0.45);
+  ASSERT_EQ(planner.plan(m, pose.position, {12.0, 0.0}), PlanStatus::kOk);
+  const auto sg = planner.subgoal(pose.position);
+  ASSERT_TRUE(sg);
+  for (int k = 0; k <= 100; ++k) {
+    const double t = k / 100.0;
+    const NavPoint q{t * sg->north_m, t * sg->east_m};
+    const auto c = planner.view().cell_of(q);
+    ASSERT_TRUE(c);
+    EXPECT_NE(planner.view().at(*c), CellState::kOccupied) << q.north_m << ", " << q.east_m;
+  }
+  EXPECT_LT(sg->east_m, -3.0);  // toward the gap
+}
+
+TEST(MapPlanner, SeenAheadMeasuresThePathThroughWaterTheLidarHasSeen) {
+  NavMap m(small_map(), {}, {});
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  ASSERT_EQ(planner.plan(m, {0.0, 0.0}, {20.0, 0.0}), PlanStatus::kOk);
+  // Nothing seen yet: only the water the boat is on (nearer than the map's least range).
+  EXPECT_LT(planner.seen_ahead_m(m, {0.0, 0.0}, 8.0), 1.5);
+  // Open water seen all round out to the map's 12 m: the path is seen up to the cap.
+  msg::LidarScan open_water;
+  for (int i = 0; i < 720; ++i)
+    (void)open_water.push({-180.0F + 0.5F * static_cast<float>(i), 0.0F, 0, 0});
+  m.add_scan(open_water, {{0.0, 0.0}, 0.0}, kHull);
+  EXPECT_DOUBLE_EQ(planner.seen_ahead_m(m, {0.0, 0.0}, 8.0), 8.0);
+  EXPECT_NEAR(planner.seen_ahead_m(m, {0.0, 0.0}, 30.0), 12.0, 0.5);
 }
 
 }  // namespace
