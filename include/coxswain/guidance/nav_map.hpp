@@ -35,8 +35,7 @@ struct NavMapParams {
   float max_log_odds = 3.5F;       //   after a few hits, and the other way round
   float occupied_log_odds = 0.6F;  // at or above: an obstacle
   double max_range_m = 12.0;       // beams clear and mark only this far
-  double min_range_m =
-      0.8;  // nearer returns are the hull, spray or wake: the avoidance's, not the map's
+  double min_range_m = 0.15;  // nearer returns are the hull: the avoidance's, not the map's
   // A beam with no return (open water reflects nothing back) clears its whole length; off, only
   // beams that end on something clear, and open water stays unseen.
   bool no_return_clears = true;
@@ -52,9 +51,11 @@ struct MapPlannerParams {
   double clearance_m = 0.2;       // inflation = the avoidance's half beam + this
   // Beyond the inflation a band this wide where a path pays to come near an obstacle, up to
   // clearance_cost times its length at the inflation's edge (falling off as a square), so the
-  // path keeps to the middle of a passage when there is room and still takes a narrow one.
+  // path keeps to the middle of a passage when there is room and still takes a narrow one. Off
+  // by default: with it (4.0) and the line-of-sight sub-goal, dead ends went 58% -> 82% but the
+  // obstacle course 99% -> 94% (docs/results.md), so it is a venue's choice.
   double soft_clearance_m = 1.5;
-  double clearance_cost = 4.0;
+  double clearance_cost = 0.0;
   double unknown_cost = 0.0;  // extra cost per metre of water the lidar has never seen
   // Within this of the goal both costs fade out toward it: a goal in a gate or a slip is as near
   // its obstacles as it is, and the path must be free to reach it there.
@@ -67,8 +68,9 @@ struct MapPlannerParams {
   double sight_min_speed_factor = 0.4;
   double lookahead_m = 3.0;              // the sub-goal's distance along the path
   // The sub-goal comes nearer, down to this along the path, until the boat can steer straight
-  // at it (never round a corner); lookahead_m: always lookahead_m along the path.
-  double line_of_sight_min_m = 0.25;
+  // at it (never round a corner); at lookahead_m or more (the default): always lookahead_m along
+  // the path. Off by default with the clearance cost (docs/results.md).
+  double line_of_sight_min_m = 3.0;
   std::uint32_t max_expansions = 60000;  // A* budget per plan (bounds its time)
   double goal_search_m = 1.5;            // a blocked goal moves to the nearest free cell this near
   // No path: stop, back off, turn to look, replan; never drive at the goal.

@@ -303,7 +303,9 @@ TEST(MapPlanner, ThePathKeepsItsDistanceFromAWallWhereThereIsRoom) {
   MapPlannerParams hard_only;
   hard_only.clearance_cost = 0.0;
   const double without = least_distance_from_side_wall(hard_only);
-  const double with = least_distance_from_side_wall(MapPlannerParams{});
+  MapPlannerParams soft;
+  soft.clearance_cost = 4.0;
+  const double with = least_distance_from_side_wall(soft);
   EXPECT_LT(without, 1.3);  // the straight line, 1 m off (outside the 0.65 m inflation)
   EXPECT_GT(with, without + 0.5);
 }
@@ -317,6 +319,7 @@ TEST(MapPlanner, TheSubGoalIsReachedInAStraightLineNeverRoundACorner) {
   m.add_scan(scan_of(pose, wall), pose, kHull);
   MapPlannerParams params;
   params.lookahead_m = 12.0;
+  params.line_of_sight_min_m = 0.25;
   MapPlanner planner(m, params, 0.45);
   ASSERT_EQ(planner.plan(m, pose.position, {12.0, 0.0}), PlanStatus::kOk);
   const auto sg = planner.subgoal(pose.position);
