@@ -833,9 +833,7 @@ std::string MissionCore::set_vision(const perception::VisionParams& vision) {
   return {};
 }
 
-const guidance::NavMap* MissionCore::nav_map() const {
-  return impl_->map ? &*impl_->map : nullptr;
-}
+const guidance::NavMap* MissionCore::nav_map() const { return impl_->map ? &*impl_->map : nullptr; }
 
 const guidance::MapPlanner* MissionCore::map_planner() const {
   return impl_->planner ? &*impl_->planner : nullptr;

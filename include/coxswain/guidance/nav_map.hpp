@@ -35,7 +35,7 @@ struct NavMapParams {
   float max_log_odds = 3.5F;       //   after a few hits, and the other way round
   float occupied_log_odds = 0.6F;  // at or above: an obstacle
   double max_range_m = 12.0;       // beams clear and mark only this far
-  double min_range_m = 0.15;  // nearer returns are the hull: the avoidance's, not the map's
+  double min_range_m = 0.15;       // nearer returns are the hull: the avoidance's, not the map's
   // A beam with no return (open water reflects nothing back) clears its whole length; off, only
   // beams that end on something clear, and open water stays unseen.
   bool no_return_clears = true;
@@ -66,7 +66,7 @@ struct MapPlannerParams {
   // the walls by the current; docs/results.md).
   double sight_full_speed_m = 0.0;
   double sight_min_speed_factor = 0.4;
-  double lookahead_m = 3.0;              // the sub-goal's distance along the path
+  double lookahead_m = 3.0;  // the sub-goal's distance along the path
   // The sub-goal comes nearer, down to this along the path, until the boat can steer straight
   // at it (never round a corner); at lookahead_m or more (the default): always lookahead_m along
   // the path. Off by default with the clearance cost (docs/results.md).
