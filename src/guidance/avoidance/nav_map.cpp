@@ -359,7 +359,7 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
   // Every cell within range whose beams all reach past it is passed.
   const auto si = std::clamp(static_cast<int>((fr0 - r0) * kSubCells), 0, kSubCells - 1);
   const auto sj = std::clamp(static_cast<int>((fc0 - c0) * kSubCells), 0, kSubCells - 1);
-  const std::size_t sub = static_cast<std::size_t>(si * kSubCells + sj);
+  const std::size_t sub = static_cast<std::size_t>(si) * kSubCells + static_cast<std::size_t>(sj);
   const auto rows = static_cast<int>(rows_);
   const auto cols = static_cast<int>(cols_);
   const auto limit = static_cast<float>(max_range);

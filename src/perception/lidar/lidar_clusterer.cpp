@@ -133,7 +133,7 @@ LidarClusterer::LidarClusterer(const LidarClusterParams& params) : params_(param
   min_range_f_ =
       std::max(float_at_or_above(params_.min_range_m), std::numeric_limits<float>::denorm_min());
   max_range_f_ = float_at_or_below(params_.max_range_m);
-  trig_.resize(2 * (360 * kTrigStepsPerDeg + 1));
+  trig_.resize(2 * (360 * static_cast<std::size_t>(kTrigStepsPerDeg) + 1));
   for (std::size_t i = 0; i < trig_.size() / 2; ++i) {
     const double a = core::deg_to_rad(-180.0 + static_cast<double>(i) / kTrigStepsPerDeg);
     trig_[2 * i] = static_cast<float>(std::cos(a));
@@ -194,7 +194,7 @@ void LidarClusterer::unit_of(float bearing_deg, float& cos_out, float& sin_out) 
   // Through the four-lane arithmetic with one lane used, so both paths agree bit for bit.
   V4i index;
   const V4f d = table_step(splat4(bearing_deg), index);
-  const auto at = static_cast<std::size_t>(2 * index[0]);
+  const auto at = 2 * static_cast<std::size_t>(index[0]);
   V4f c;
   V4f sn;
   turn_by(d, splat4(trig_[at]), splat4(trig_[at + 1]), c, sn);
@@ -287,7 +287,7 @@ void LidarClusterer::filter_points(const msg::LidarScan& scan) {
     V4f c0;
     V4f s0;
     for (std::uint32_t lane = 0; lane < 4; ++lane) {
-      const auto at = static_cast<std::size_t>(2 * whole[lane]);
+      const auto at = 2 * static_cast<std::size_t>(whole[lane]);
       c0[lane] = trig[at];
       s0[lane] = trig[at + 1];
     }

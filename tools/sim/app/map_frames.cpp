@@ -94,7 +94,7 @@ void MapFrameWriter::on_step(double t_s, const runner::MissionPilot& pilot,
   }
   const mission::VizFrame& v = pilot.output().viz;
   if (v.has_goal) cv::drawMarker(img, px(v.goal), {200, 0, 200}, cv::MARKER_CROSS, 12, 2);
-  const auto arrow = [&](const core::NavPose& p, cv::Scalar colour) {
+  const auto arrow = [&](const core::NavPose& p, const cv::Scalar& colour) {
     const double h = core::deg_to_rad(p.heading_deg);
     const core::NavPoint tip{p.position.north_m + std::cos(h), p.position.east_m + std::sin(h)};
     cv::circle(img, px(p.position), 4, colour, cv::FILLED, cv::LINE_AA);

@@ -149,6 +149,7 @@ Scorer::Scorer(const world::World& world, const config::HullConfig& hull, Scorin
   // Area samples: an 11 x 5 grid over the hull's bounding box, kept where inside the outline.
   const auto outline = hull_outline_body(hull);
   std::vector<NavPoint> poly;
+  poly.reserve(outline.size());
   for (const auto& p : outline) poly.push_back({p.forward_m, p.starboard_m});
   for (Obstacle& o : obstacles_) {
     if (o.segments.empty()) continue;
