@@ -264,6 +264,9 @@ int run_main(int argc, char** argv) {
           coxswain::app::parse_command_line(app, argc, argv, "coxswain", std::cout, std::cerr)) {
     return *status;
   }
+  // The daemon blocks its stop signals before it loads anything (and before any thread): a stop
+  // asked while it starts is then handled in order once it runs, not by the default action.
+  if (run->parsed()) coxswain::app::block_stop_signals();
   if (vision->parsed()) return vision_exit;
 
   if (check->parsed()) return check_config(check_files);
@@ -431,7 +434,6 @@ int run_main(int argc, char** argv) {
     std::cerr << "cannot create a run directory under '" << log_dir << "': " << e.what() << "\n";
     return kExitRuntime;
   }
-  coxswain::app::block_stop_signals();  // before the logging thread exists
   coxswain::app::setup_logging(run_dir / "coxswain.log", *level);
   spdlog::info("coxswain {} (git {}) starting", coxswain::kVersion, coxswain::kGitHash);
   int status = kExitRuntime;

@@ -134,6 +134,8 @@ double distance_to(const core::NavPoint& a, const core::NavPoint& b) {
 // daemon.cpp); these are verbatim lines of a devices-mode run.
 TEST(DaemonLogParse, ReadsTheLinesDevicesModeActsOn) {
   DaemonReport r;
+  parse_daemon_line("2026-11-23 17:15:23.871 info  coxswain 0.3.0 (git 080738a) starting", 0, r);
+  EXPECT_TRUE(r.started);
   parse_daemon_line(
       "2026-11-23 17:15:24.001 info  device lidar: running (scanning: A2M8 fw 1.20 hw 5, express "
       "mode 0 answer 0x82, 250.0 us/sample, motor accessory-board PWM)",
@@ -158,6 +160,9 @@ TEST(DaemonLogParse, ReadsTheLinesDevicesModeActsOn) {
       7, r);
   EXPECT_EQ(r.device_state["lidar"], "running");
   EXPECT_EQ(r.device_state["imu"], "stale");
+  DaemonReport not_yet;
+  parse_daemon_line("2026-11-23 17:15:29.223 warning device imu: stale (started)", 2, not_yet);
+  EXPECT_FALSE(not_yet.started);
   ASSERT_EQ(r.transitions.size(), 1U);
   EXPECT_EQ(r.transitions[0].stamp_ns, 3);
   EXPECT_EQ(r.transitions[0].from, "course1/to_waypoint");

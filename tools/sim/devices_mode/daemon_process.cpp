@@ -47,7 +47,9 @@ const std::regex& stopping_re() {
 
 void parse_daemon_line(const std::string& line, core::TimeNs stamp_ns, DaemonReport& report) {
   std::smatch m;
-  if (line.find("mission: ") != std::string::npos && std::regex_search(line, m, mission_re())) {
+  if (!report.started && line.find(") starting") != std::string::npos) {
+    report.started = true;
+  } else if (line.find("mission: ") != std::string::npos && std::regex_search(line, m, mission_re())) {
     report.transitions.push_back({stamp_ns, m[1].str(), m[2].str(), m[3].str()});
   } else if (line.find("mission finished after") != std::string::npos) {
     report.finished = true;
@@ -150,8 +152,15 @@ int DaemonProcess::stop(std::chrono::milliseconds grace) {
     if (reaped_) return exit_status_;
   }
   if (pid_ <= 0) return 0;
-  ::kill(pid_, SIGTERM);
   const auto deadline = std::chrono::steady_clock::now() + grace;
+  // A daemon still loading its configuration would die of the signal's default action; once it
+  // has said it is starting, it handles the signal and stops in order. The wait is bounded by
+  // the same grace.
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait_until(lock, deadline, [this] { return report_.started || closed_; });
+  }
+  ::kill(pid_, SIGTERM);
   int status = 0;
   pid_t r = 0;
   while ((r = ::waitpid(pid_, &status, WNOHANG)) == 0 &&
