@@ -753,6 +753,7 @@ using guidance::GateParams;
 using guidance::MapPlannerParams;
 using guidance::NavMapParams;
 using guidance::PlanningConfig;
+using guidance::TurnSideParams;
 constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::resolution_m>(
         "map.resolution_m", "m", 0.05, 5.0, kFixed, "side of one map cell"),
@@ -860,6 +861,22 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::approach_m>(
         "gates.approach_m", "m", 0.1, 50.0, kFixed,
         "after a miss, go back to this far before the gate"),
+    bool_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::enabled>(
+        "turn_side.enabled", kFixed,
+        "waypoint-only tasks (hopping): a large turn goes the long way round when the lidar sees "
+        "the short way's turning circle blocked"),
+    real_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::min_turn_deg>(
+        "turn_side.min_turn_deg", "deg", 0.0, 180.0, kFixed,
+        "smaller changes of heading always turn the short way"),
+    real_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::clearance_m>(
+        "turn_side.clearance_m", "m", 0.0, 10.0, kFixed,
+        "room kept between the swept hull of the turn and what the lidar sees"),
+    real_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::release_deg>(
+        "turn_side.release_deg", "deg", 0.01, 90.0, kFixed,
+        "a side taken is held until the heading is this near the desired one"),
+    real_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::turn_radius_m>(
+        "turn_side.turn_radius_m", "m", 0.01, 50.0, kFixed,
+        "the pivot's turning circle at sailing speed, drift included"),
 };
 
 // ---- boat ---------------------------------------------------------------------------------

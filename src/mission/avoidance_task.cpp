@@ -53,7 +53,8 @@ class AvoidanceTask final : public AvoidingTask {
         gates_(m.planning.gates),
         judge_gates_(!course1 && m.planning.gates.judge_by_lidar),
         legacy_(!m.planning.planner.enabled && !m.planning.gates.judge_by_lidar),
-        cruise_(m.speed.cruise_thrust_frac) {}
+        cruise_(m.speed.cruise_thrust_frac),
+        progress_(m.planning.planner) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu | kNeedLidar; }
 
@@ -74,8 +75,7 @@ class AvoidanceTask final : public AvoidingTask {
     off_map_ = false;
     failures_ = 0;
     look_sign_ = 1.0;
-    stuck_ = false;
-    last_step_ns_ = core::kNeverNs;
+    progress_.reset();
     set_phase(course1_ ? "to_waypoint" : "navigate", "task entered");
     return {};
   }
@@ -100,8 +100,7 @@ class AvoidanceTask final : public AvoidingTask {
     if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && !in_gate_mouth) {
       replan(ctx, goal);
       if (no_path_) {
-        stuck_ = false;
-        progress_ns_ = ctx.now_ns;  // the no-path recovery moves the boat on its own
+        progress_.progress_made(ctx.now_ns);  // the no-path recovery moves the boat on its own
         return recover(ctx, out);
       }
       if (!off_map_) {
@@ -167,7 +166,6 @@ class AvoidanceTask final : public AvoidingTask {
     out.speed_factor = d.speed_factor;
   }
   static constexpr double kBuoyIsolationM = 0.8;
-  static constexpr double kStepGapS = 1.0;  // steps further apart: the task was paused (hold)
   static constexpr double kGateMouthM = 3.0;
   static constexpr double kGateLookaheadM = 4.0;
 
@@ -445,32 +443,22 @@ class AvoidanceTask final : public AvoidingTask {
   /// Follows the boat's progress; false while it is stuck (moved less than stuck_distance_m in
   /// stuck_s) and backing off, true when it may sail on.
   bool watch_progress(const TaskContext& ctx) {
-    const bool resumed =
-        last_step_ns_ == core::kNeverNs || core::ns_to_sec(ctx.now_ns - last_step_ns_) > kStepGapS;
-    last_step_ns_ = ctx.now_ns;
-    if (resumed || core::distance_m(ctx.antenna, progress_at_) > plan_.stuck_distance_m) {
-      progress_at_ = ctx.antenna;
-      progress_ns_ = ctx.now_ns;
+    switch (progress_.update(ctx.now_ns, ctx.antenna)) {
+      case StuckWatch::Progress::kMoving:
+        return true;
+      case StuckWatch::Progress::kRecovering:
+        return false;
+      case StuckWatch::Progress::kRecovered:
+        set_phase(course1_ ? "to_waypoint" : "navigate", "backed off; on toward the goal");
+        return true;
+      case StuckWatch::Progress::kBecameStuck:
+        break;
     }
-    if (stuck_) {
-      const double cycle = plan_.stop_s + plan_.back_off_s + plan_.look_s;
-      if (core::ns_to_sec(ctx.now_ns - stuck_since_ns_) < cycle) return false;
-      stuck_ = false;
-      progress_at_ = ctx.antenna;
-      progress_ns_ = ctx.now_ns;
-      set_phase(course1_ ? "to_waypoint" : "navigate", "backed off; on toward the goal");
-      return true;
-    }
-    if (plan_.stuck_s > 0.0 && core::ns_to_sec(ctx.now_ns - progress_ns_) >= plan_.stuck_s) {
-      stuck_ = true;
-      stuck_since_ns_ = ctx.now_ns;
-      look_sign_ = -look_sign_;
-      planned_goal_ = steering_goal(ctx);
-      set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
-                                       core::distance_m(ctx.antenna, progress_at_), plan_.stuck_s));
-      return false;
-    }
-    return true;
+    look_sign_ = -look_sign_;
+    planned_goal_ = steering_goal(ctx);
+    set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
+                                     progress_.moved_m(ctx.antenna), plan_.stuck_s));
+    return false;
   }
 
   /// Stuck: stop, back off astern on the same heading, then turn toward the path's sub-goal
@@ -479,23 +467,13 @@ class AvoidanceTask final : public AvoidingTask {
     const bool planned = plan_.enabled && ctx.planner != nullptr && !off_map_ &&
                          ctx.planner->status() == guidance::PlanStatus::kOk;
     const double look_deg = planned ? core::bearing_deg(ctx.antenna, aim) : look_heading(ctx);
-    return back_off_then_look(ctx, core::ns_to_sec(ctx.now_ns - stuck_since_ns_), look_deg, out);
+    return back_off_then_look(ctx, progress_.recovery_s(ctx.now_ns), look_deg, out);
   }
 
-  /// `t` seconds into a recovery: stopped, then astern on the same heading, then turning to
-  /// `look_deg` at the look thrust.
+  /// `t` seconds into a recovery (stuck or no path): back_off_then_look, drawn.
   TaskResult back_off_then_look(const TaskContext& ctx, double t, double look_deg,
                                 GuidanceRequest& out) const {
-    out.steer = true;
-    out.desired_heading_deg = ctx.pose.heading_deg;
-    out.thrust_frac = 0.0;
-    if (t >= plan_.stop_s + plan_.back_off_s) {
-      out.desired_heading_deg = look_deg;
-      out.thrust_frac = plan_.look_thrust_frac;
-    } else if (t >= plan_.stop_s) {
-      out.thrust_frac = plan_.back_off_thrust_frac;
-      out.speed_factor = -1.0;
-    }
+    detail::back_off_then_look(plan_, ctx.pose.heading_deg, t, look_deg, out);
     fill_viz(ctx, steering_goal(ctx));
     return TaskResult::kRunning;
   }
@@ -610,12 +588,7 @@ class AvoidanceTask final : public AvoidingTask {
   core::TimeNs no_path_since_ns_ = 0;
   double look_heading_deg_ = 0.0;
   double look_sign_ = 1.0;
-  // Progress (stuck detection).
-  core::NavPoint progress_at_;
-  core::TimeNs progress_ns_ = 0;
-  core::TimeNs last_step_ns_ = core::kNeverNs;
-  bool stuck_ = false;
-  core::TimeNs stuck_since_ns_ = 0;
+  StuckWatch progress_;
 };
 
 }  // namespace

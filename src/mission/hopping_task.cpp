@@ -12,6 +12,7 @@
 #include "coxswain/core/angles.hpp"
 #include "coxswain/guidance/buoy_circling.hpp"
 #include "coxswain/guidance/docking_approach.hpp"
+#include "coxswain/guidance/turn_side.hpp"
 #include "coxswain/guidance/waypoint_follower.hpp"
 #include "coxswain/perception/marker_vote.hpp"
 
@@ -19,12 +20,21 @@ namespace coxswain::mission::detail {
 
 namespace {
 
-/// Hopping tour: line following between the waypoints, speed schedule by distance to go.
+/// Hopping tour: line following between the waypoints, speed schedule by distance to go. With
+/// a lidar, a large turn at a waypoint goes the long way round when the short way's turning
+/// circle is blocked (a pool's wall); a boat that makes no progress (pinned on a wall) stops,
+/// backs off and turns to the leg.
 class HoppingTask final : public Task {
  public:
   HoppingTask(const config::TaskConfig& t, const config::MissionConfig& m,
               const core::LocalFrame& frame)
-      : Task(t.name), leg_(m.waypoints, to_route(t.waypoints, frame)) {}
+      : Task(t.name),
+        leg_(m.waypoints, to_route(t.waypoints, frame)),
+        recovery_(m.planning.planner),
+        progress_(m.planning.planner),
+        turn_(m.planning.turn_side, guidance::TurnHull::from(m.avoidance, m.planning.turn_side)),
+        turn_side_(m.planning.turn_side),
+        hard_turn_(guidance::TurnHull::from(m.avoidance)) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu; }
 
@@ -32,6 +42,8 @@ class HoppingTask final : public Task {
     ReasonText r = need_position_heading(ctx);
     if (!r.empty()) return r;
     if (!leg_.start(ctx.antenna)) return reason_printf("no waypoints");
+    progress_.reset();
+    turn_.reset();
     set_phase("to_wp1", "task entered");
     return {};
   }
@@ -40,6 +52,7 @@ class HoppingTask final : public Task {
     const core::NavPoint before = ctx.antenna;
     const guidance::WaypointGuidance g = leg_.update(ctx);
     if (g.event != guidance::WaypointEvent::kNone) {
+      turn_.reset();  // a new leg: its turn is chosen afresh
       const ReasonText why =
           g.event == guidance::WaypointEvent::kNone
               ? ReasonText{}
@@ -49,22 +62,62 @@ class HoppingTask final : public Task {
                                  ctx.status->waypoints_arrived, ctx.status->waypoints_missed));
         return TaskResult::kDone;
       }
-      FixedText<24> ph;
-      (void)std::snprintf(ph.chars.data(), ph.chars.size(), "to_wp%zu", g.index + 1);
-      set_phase(ph.view(), why.view());
+      set_phase(leg_phase(g).view(), why.view());
     }
     if (g.finished) {
       set_reason(reason_printf("route complete"));
       return TaskResult::kDone;
     }
     out.steer = true;
-    out.desired_heading_deg = g.desired_heading_deg;
     out.schedule_distance_m = g.distance_to_go_m;
+    switch (progress_.update(ctx.now_ns, ctx.antenna)) {
+      case StuckWatch::Progress::kBecameStuck:
+        set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
+                                         progress_.moved_m(ctx.antenna), recovery_.stuck_s));
+        [[fallthrough]];
+      case StuckWatch::Progress::kRecovering:
+        back_off_then_look(recovery_, ctx.pose.heading_deg, progress_.recovery_s(ctx.now_ns),
+                           g.desired_heading_deg, out);
+        return TaskResult::kRunning;
+      case StuckWatch::Progress::kRecovered:
+        set_phase(leg_phase(g).view(), "backed off; on along the leg");
+        break;
+      case StuckWatch::Progress::kMoving:
+        break;
+    }
+    if (ctx.lidar_new && ctx.obstacles != nullptr) {
+      turn_.observe(*ctx.obstacles);
+    } else if (!ctx.lidar_fresh) {
+      turn_.forget();
+    }
+    double desired_deg = g.desired_heading_deg;
+    // A waypoint inside the turning circle would be circled for ever: straight on first, until
+    // the turn can reach it.
+    if (turn_.side() == guidance::TurnSideChooser::Side::kShortest && turn_side_.enabled &&
+        guidance::inside_turning_circle(core::nav_to_body(ctx.pose, g.target), hard_turn_,
+                                        std::max(g.reach_m, kMinReachM))) {
+      desired_deg = ctx.pose.heading_deg;
+    }
+    out.desired_heading_deg = turn_.steer(ctx.pose.heading_deg, desired_deg);
     return TaskResult::kRunning;
   }
 
  private:
+  // A point out of the estimate's reach is still steered through as nearly as the turn allows.
+  static constexpr double kMinReachM = 0.3;
+
+  static FixedText<24> leg_phase(const guidance::WaypointGuidance& g) {
+    FixedText<24> ph;
+    (void)std::snprintf(ph.chars.data(), ph.chars.size(), "to_wp%zu", g.index + 1);
+    return ph;
+  }
+
   RouteLeg leg_;
+  guidance::MapPlannerParams recovery_;
+  StuckWatch progress_;
+  guidance::TurnSideChooser turn_;
+  guidance::TurnSideParams turn_side_;
+  guidance::TurnHull hard_turn_;  // the swept hull's hard turn: where a point cannot be reached
 };
 
 }  // namespace

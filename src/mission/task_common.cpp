@@ -142,6 +142,44 @@ void steer_clear(guidance::Avoidance& avoidance, const TaskContext& ctx, double 
   v.avoidance_status = static_cast<std::uint8_t>(d.status);
 }
 
+StuckWatch::Progress StuckWatch::update(core::TimeNs now_ns, core::NavPoint antenna) {
+  constexpr double kStepGapS = 1.0;
+  const bool resumed =
+      last_step_ns_ == core::kNeverNs || core::ns_to_sec(now_ns - last_step_ns_) > kStepGapS;
+  last_step_ns_ = now_ns;
+  if (resumed || core::distance_m(antenna, progress_at_) > p_.stuck_distance_m) {
+    progress_at_ = antenna;
+    progress_ns_ = now_ns;
+  }
+  if (stuck_) {
+    if (recovery_s(now_ns) < p_.stop_s + p_.back_off_s + p_.look_s) return Progress::kRecovering;
+    stuck_ = false;
+    progress_at_ = antenna;
+    progress_ns_ = now_ns;
+    return Progress::kRecovered;
+  }
+  if (p_.stuck_s > 0.0 && core::ns_to_sec(now_ns - progress_ns_) >= p_.stuck_s) {
+    stuck_ = true;
+    stuck_since_ns_ = now_ns;
+    return Progress::kBecameStuck;
+  }
+  return Progress::kMoving;
+}
+
+void back_off_then_look(const guidance::MapPlannerParams& p, double heading_now_deg, double t_s,
+                        double look_deg, GuidanceRequest& out) {
+  out.steer = true;
+  out.desired_heading_deg = heading_now_deg;
+  out.thrust_frac = 0.0;
+  if (t_s >= p.stop_s + p.back_off_s) {
+    out.desired_heading_deg = look_deg;
+    out.thrust_frac = p.look_thrust_frac;
+  } else if (t_s >= p.stop_s) {
+    out.thrust_frac = p.back_off_thrust_frac;
+    out.speed_factor = -1.0;
+  }
+}
+
 guidance::LineFollowParams slip_line_params(const config::MissionConfig& m) {
   guidance::LineFollowParams p = m.waypoints.line;
   p.lookahead_m = m.docking.approach.lookahead_m;

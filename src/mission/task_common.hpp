@@ -4,6 +4,7 @@
 // and the constructor of each task, one source file per task.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -96,6 +97,52 @@ class RouteLeg {
 };
 
 ReasonText event_reason(const guidance::WaypointGuidance& g, double dist_m);
+
+/// Progress of a task that means to go somewhere: stuck when the boat moved less than
+/// `stuck_distance_m` in `stuck_s` (a bow on a wall, a hull pinned in a corner). A stuck boat
+/// recovers for stop_s + back_off_s + look_s (back_off_then_look), then sails on.
+class StuckWatch {
+ public:
+  enum class Progress : std::uint8_t {
+    kMoving,       // sail on
+    kBecameStuck,  // this step: the recovery starts
+    kRecovering,   // within the recovery
+    kRecovered,    // this step: the recovery ended, sail on
+  };
+  explicit StuckWatch(const guidance::MapPlannerParams& p) : p_(p) {}
+  void reset() {
+    stuck_ = false;
+    last_step_ns_ = core::kNeverNs;
+  }
+  /// Once per step. Steps further apart than a second mean the task was paused (a hold): the
+  /// progress clock starts again.
+  Progress update(core::TimeNs now_ns, core::NavPoint antenna);
+  /// Something else moves the boat on its own (another recovery): no stuck meanwhile.
+  void progress_made(core::TimeNs now_ns) {
+    stuck_ = false;
+    progress_ns_ = now_ns;
+  }
+  [[nodiscard]] double recovery_s(core::TimeNs now_ns) const {
+    return core::ns_to_sec(now_ns - stuck_since_ns_);
+  }
+  /// How far the boat moved in the last stuck_s (for the reason text).
+  [[nodiscard]] double moved_m(core::NavPoint antenna) const {
+    return core::distance_m(antenna, progress_at_);
+  }
+
+ private:
+  guidance::MapPlannerParams p_;
+  core::NavPoint progress_at_;
+  core::TimeNs progress_ns_ = 0;
+  core::TimeNs last_step_ns_ = core::kNeverNs;
+  bool stuck_ = false;
+  core::TimeNs stuck_since_ns_ = 0;
+};
+
+/// `t_s` seconds into a recovery: stopped, then astern on the present heading, then turning to
+/// `look_deg` at the look thrust (the times and thrusts of `p`).
+void back_off_then_look(const guidance::MapPlannerParams& p, double heading_now_deg, double t_s,
+                        double look_deg, GuidanceRequest& out);
 
 /// Steers toward `desired_heading_deg` (true) around the lidar's obstacles nearer than `reach_m`
 /// (what lies beyond the goal is not in the way); sets the request's heading and speed factor and

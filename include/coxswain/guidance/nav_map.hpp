@@ -18,6 +18,7 @@
 #include "coxswain/core/frames.hpp"
 #include "coxswain/core/geodesy.hpp"
 #include "coxswain/guidance/grid_planner.hpp"
+#include "coxswain/guidance/turn_side.hpp"
 #include "coxswain/msg/lidar_scan.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
 
@@ -110,6 +111,9 @@ struct PlanningConfig {
   NavMapParams map;
   MapPlannerParams planner;
   GateParams gates;
+  // Tasks that only follow waypoints (the hopping tour) take a large turn the long way round
+  // when the lidar sees the short way's turning circle blocked (a pool's wall beside a waypoint).
+  TurnSideParams turn_side;
   std::vector<core::GeoPoint> boundary;            // field corners, in order (>= 3 or none)
   std::vector<std::vector<core::GeoPoint>> no_go;  // polygons, each >= 3 corners
   [[nodiscard]] std::optional<std::string> validate() const;

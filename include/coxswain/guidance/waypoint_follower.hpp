@@ -47,9 +47,12 @@ struct WaypointGuidance {
   std::size_t index = 0;  // the point being steered to (== size when finished)
   core::NavPoint target;  // that point
   double desired_heading_deg = 0.0;
-  double distance_to_go_m = 0.0;               // to the current point
-  double cross_track_m = 0.0;                  // + = starboard of the leg
-  double leg_progress = 0.0;                   // 0..1 along the current leg
+  double distance_to_go_m = 0.0;  // to the current point
+  double cross_track_m = 0.0;     // + = starboard of the leg
+  double leg_progress = 0.0;      // 0..1 along the current leg
+  // The point counts once the boat is this near it, as the estimate stands now (the fixed
+  // arrival radius, or the rule's radius less the confidence margin; 0 when out of reach).
+  double reach_m = 0.0;
   WaypointEvent event = WaypointEvent::kNone;  // what happened to the previous point this step
   std::size_t event_index = 0;                 // which point the event is about
 };

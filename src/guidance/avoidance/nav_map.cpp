@@ -96,6 +96,7 @@ std::optional<std::string> PlanningConfig::validate() const {
   if (auto e = map.validate()) return e;
   if (auto e = planner.validate()) return e;
   if (auto e = gates.validate()) return e;
+  if (auto e = turn_side.validate()) return "turn_side: " + *e;
   if (!boundary.empty() && boundary.size() < 3) return "boundary: needs at least 3 corners";
   for (const auto& p : no_go) {
     if (p.size() < 3) return "no_go: each polygon needs at least 3 corners";

@@ -100,6 +100,10 @@ WaypointGuidance WaypointFollower::update(core::NavPoint position, core::TimeNs 
   g.index = index_;
   g.target = route_[index_];
   g.distance_to_go_m = core::distance_m(position, g.target);
+  g.reach_m = by_confidence
+                  ? std::max(0.0, p_.rule_radius_m -
+                                      k_sigma_ * covariance->sigma_toward_m(position, g.target))
+                  : p_.arrival_radius_m;
   const LineFollowOutput lf = line_.update(leg_start_, g.target, position, dt_s);
   g.cross_track_m = lf.cross_track_m;
   g.leg_progress = lf.progress;

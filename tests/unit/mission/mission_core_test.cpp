@@ -287,6 +287,7 @@ TEST(MissionHold, OperatorHoldFromTheControlInterface) {
 
 TEST(MissionHold, ResumeRampsTheThrustFromZero) {
   auto rig = std::make_unique<Rig>(hopping_config());
+  rig->move = true;  // a hull held fast would be stuck after 5 s and stop to back off
   rig->run_for(8.0);
   ASSERT_GT(rig->thrust_frac(), 0.5);
   rig->arduino.mode = msg::ControlMode::kManual;
@@ -294,6 +295,48 @@ TEST(MissionHold, ResumeRampsTheThrustFromZero) {
   rig->arduino.mode = msg::ControlMode::kAutonomous;
   ASSERT_TRUE(rig->run_until([&] { return !rig->out.status.holding; }, 0.5));
   EXPECT_LT(rig->thrust_frac(), 0.05);  // rise 0.2 / s: one tick after resume
+}
+
+// A hopping leg held fast (a hull pinned on a pool wall): the tour notices, stops, backs off,
+// turns to the leg and sails on.
+TEST(MissionHopping, AHullHeldFastBacksOffAndSailsOnAlongTheLeg) {
+  const config::Configuration c = hopping_config();
+  const guidance::MapPlannerParams& p = c.mission.planning.planner;
+  auto rig = std::make_unique<Rig>(c);
+  rig->run_for(p.stuck_s - 0.5);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1") << rig->log_text();
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "hopping/stuck") << rig->log_text();
+  bool astern = false;
+  const int cycle_ticks =
+      static_cast<int>((p.stop_s + p.back_off_s + p.look_s) / core::ns_to_sec(kTickNs));
+  for (int i = 0; i < cycle_ticks + 10; ++i) {
+    rig->tick();
+    astern = astern || rig->out.command.pulse_us[1] < 1500;
+  }
+  EXPECT_TRUE(astern);
+  EXPECT_EQ(rig->path(), "hopping/to_wp1") << rig->log_text();
+  EXPECT_TRUE(rig->logged("backed off; on along the leg")) << rig->log_text();
+}
+
+// The next point lies behind the boat, a little to starboard, and a wall runs 3 m off its
+// starboard side: the short way round (to starboard) would carry the hull into the wall, so the
+// tour turns to port; without the wall, or with the choice turned off, to starboard.
+TEST(MissionHopping, ATurnBesideAWallGoesTheLongWayRound) {
+  const auto first_turn_deg = [](bool wall, bool choose) {
+    config::Configuration c = base_config(config::TaskType::kHopping);
+    const core::LocalFrame f(c.mission.origin);
+    c.mission.tasks[0].waypoints.push_back(f.to_geo({-12.0, 2.0}));
+    c.mission.planning.turn_side.enabled = choose;
+    auto rig = std::make_unique<Rig>(c);
+    rig->move = true;
+    if (wall) rig->world_walls.push_back({{-30.0, 3.0}, {30.0, 3.0}});
+    rig->run_for(1.5);
+    return core::angle_diff_deg(rig->heading_deg, 0.0);
+  };
+  EXPECT_LT(first_turn_deg(true, true), -10.0);
+  EXPECT_GT(first_turn_deg(false, true), 10.0);
+  EXPECT_GT(first_turn_deg(true, false), 10.0);
 }
 
 // ---- time limits --------------------------------------------------------------------------

@@ -75,6 +75,7 @@ void apply_baseline(config::MissionConfig& m) {
   // Nor did they plan on a map or notice a boat that made no progress.
   m.planning.planner.enabled = false;
   m.planning.planner.stuck_s = 0.0;
+  m.planning.turn_side.enabled = false;
 }
 
 void print_summary_line(const std::string& label, const runner::MissionRunResult& r) {

@@ -49,7 +49,8 @@ void parse_daemon_line(const std::string& line, core::TimeNs stamp_ns, DaemonRep
   std::smatch m;
   if (!report.started && line.find(") starting") != std::string::npos) {
     report.started = true;
-  } else if (line.find("mission: ") != std::string::npos && std::regex_search(line, m, mission_re())) {
+  } else if (line.find("mission: ") != std::string::npos &&
+             std::regex_search(line, m, mission_re())) {
     report.transitions.push_back({stamp_ns, m[1].str(), m[2].str(), m[3].str()});
   } else if (line.find("mission finished after") != std::string::npos) {
     report.finished = true;

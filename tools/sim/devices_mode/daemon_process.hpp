@@ -44,7 +44,7 @@ struct DaemonReport {
   std::map<std::string, std::string> device_state;  // device -> last health state logged
   std::map<std::string, double> device_rate_hz;     // device -> rate of its last counters line
   std::vector<MissionTransition> transitions;
-  bool finished = false;                     // "mission finished after ..."
+  bool finished = false;  // "mission finished after ..."
   bool started = false;  // "coxswain ... starting": its stop signals are handled in order from here
   std::uint64_t window_overruns = 0;         // sum of the periodic "tick: ... overruns N" windows
   double worst_tick_p99_ms = 0.0;            // largest p99 tick duration of a window
@@ -71,8 +71,8 @@ class DaemonProcess {
   DaemonProcess& operator=(const DaemonProcess&) = delete;
 
   /// Waits (within `grace`) until the daemon has said it is starting, so its stop is an orderly
-  /// one, then SIGTERM, and waits up to the rest of `grace` for the exit (SIGKILL after). Returns the exit status
-  /// (as from waitpid's WEXITSTATUS, 128+signal when killed). Idempotent.
+  /// one, then SIGTERM, and waits up to the rest of `grace` for the exit (SIGKILL after). Returns
+  /// the exit status (as from waitpid's WEXITSTATUS, 128+signal when killed). Idempotent.
   int stop(std::chrono::milliseconds grace = std::chrono::milliseconds(8000));
   /// True once the daemon's output ended (it exited or closed stderr).
   [[nodiscard]] bool output_closed() const;

@@ -22,6 +22,7 @@
 #include "sim/runner/mission_pilot.hpp"
 #include "sim/runner/mission_run.hpp"
 #include "sim/runner/realistic_sensors.hpp"
+#include "sim/scoring/scorer.hpp"
 #include "sim/world/generator.hpp"
 
 namespace {
@@ -30,6 +31,7 @@ using namespace coxswain;
 
 struct RunStats {
   bool passed = false;
+  std::string failure;  // the judge's reason ("" when passed)
   bool false_count = false;
   std::uint32_t mission_arrived = 0;
   std::size_t judge_arrived = 0;
@@ -103,6 +105,7 @@ RunStats run_one(std::uint64_t seed, double bias_m, const config::Configuration&
   }
   const sim::runner::RunOutcome outcome = runner.run();
   st.passed = sim::runner::mission_passed(outcome.score);
+  if (!st.passed) st.failure = sim::scoring::failure_reason(outcome.score, pilot.status().finished);
   st.mission_arrived = pilot.status().waypoints_arrived;
   st.judge_arrived = outcome.score.waypoints.size();
   st.false_count = st.mission_arrived > st.judge_arrived;
@@ -148,12 +151,12 @@ int main(int argc, char** argv) {
       std::printf(
           "{\"seed\": %llu, \"passed\": %s, \"false_count\": %s, \"mission_arrived\": %u, "
           "\"judge_arrived\": %zu, \"inside95\": %.4f, \"nees\": %.3f, \"err_med_m\": %.3f, "
-          "\"err_p95_m\": %.3f, \"heading_err_med_deg\": %.2f}\n",
+          "\"err_p95_m\": %.3f, \"heading_err_med_deg\": %.2f, \"failure\": \"%s\"}\n",
           static_cast<unsigned long long>(seed), st.passed ? "true" : "false",
           st.false_count ? "true" : "false", st.mission_arrived, st.judge_arrived,
           st.ticks ? static_cast<double>(st.inside95) / static_cast<double>(st.ticks) : 0.0,
           st.ticks ? st.nees_sum / static_cast<double>(st.ticks) : 0.0, quantile(st.err_m, 0.5),
-          quantile(st.err_m, 0.95), quantile(st.heading_err_deg, 0.5));
+          quantile(st.err_m, 0.95), quantile(st.heading_err_deg, 0.5), st.failure.c_str());
       std::fflush(stdout);
       results[static_cast<std::size_t>(i)] = std::move(st);
     }
