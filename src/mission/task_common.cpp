@@ -80,7 +80,7 @@ AvoidingTask::AvoidingTask(std::string_view name, const guidance::AvoidanceParam
   std::string error;
   auto av = guidance::Avoidance::create(params, &error);
   if (!av) throw std::invalid_argument("avoidance: " + error);
-  avoidance_.emplace(std::move(*av));
+  avoidance_.emplace(*av);
 }
 
 ReasonText need_position_heading(const TaskContext& ctx) {

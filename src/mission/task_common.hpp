@@ -32,7 +32,7 @@ class AvoidingTask : public Task {
  public:
   void retune_avoidance(const guidance::AvoidanceParams& params) override {
     // Validated by the core: create() cannot fail here. The new engine starts without a side.
-    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(std::move(*av));
+    if (auto av = guidance::Avoidance::create(params)) avoidance_.emplace(*av);
   }
 
  protected:
