@@ -456,8 +456,7 @@ class AvoidanceTask final : public AvoidingTask {
     }
     look_sign_ = -look_sign_;
     planned_goal_ = steering_goal(ctx);
-    set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
-                                     progress_.moved_m(ctx.antenna), plan_.stuck_s));
+    set_phase("stuck", progress_.stuck_reason(ctx.antenna).view());
     return false;
   }
 

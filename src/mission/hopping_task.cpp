@@ -30,10 +30,8 @@ class HoppingTask final : public Task {
               const core::LocalFrame& frame)
       : Task(t.name),
         leg_(m.waypoints, to_route(t.waypoints, frame)),
-        recovery_(m.planning.planner),
         progress_(m.planning.planner),
         turn_(m.planning.turn_side, guidance::TurnHull::from(m.avoidance, m.planning.turn_side)),
-        turn_side_(m.planning.turn_side),
         hard_turn_(guidance::TurnHull::from(m.avoidance)) {}
 
   [[nodiscard]] std::uint8_t needs() const override { return kNeedGnss | kNeedImu; }
@@ -72,12 +70,11 @@ class HoppingTask final : public Task {
     out.schedule_distance_m = g.distance_to_go_m;
     switch (progress_.update(ctx.now_ns, ctx.antenna)) {
       case StuckWatch::Progress::kBecameStuck:
-        set_phase("stuck", reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
-                                         progress_.moved_m(ctx.antenna), recovery_.stuck_s));
+        set_phase("stuck", progress_.stuck_reason(ctx.antenna).view());
         [[fallthrough]];
       case StuckWatch::Progress::kRecovering:
-        back_off_then_look(recovery_, ctx.pose.heading_deg, progress_.recovery_s(ctx.now_ns),
-                           g.desired_heading_deg, out);
+        back_off_then_look(progress_.params(), ctx.pose.heading_deg,
+                           progress_.recovery_s(ctx.now_ns), g.desired_heading_deg, out);
         return TaskResult::kRunning;
       case StuckWatch::Progress::kRecovered:
         set_phase(leg_phase(g).view(), "backed off; on along the leg");
@@ -93,7 +90,7 @@ class HoppingTask final : public Task {
     double desired_deg = g.desired_heading_deg;
     // A waypoint inside the turning circle would be circled for ever: straight on first, until
     // the turn can reach it.
-    if (turn_.side() == guidance::TurnSideChooser::Side::kShortest && turn_side_.enabled &&
+    if (turn_.side() == guidance::TurnSideChooser::Side::kShortest && turn_.enabled() &&
         guidance::inside_turning_circle(core::nav_to_body(ctx.pose, g.target), hard_turn_,
                                         std::max(g.reach_m, kMinReachM))) {
       desired_deg = ctx.pose.heading_deg;
@@ -113,10 +110,8 @@ class HoppingTask final : public Task {
   }
 
   RouteLeg leg_;
-  guidance::MapPlannerParams recovery_;
   StuckWatch progress_;
   guidance::TurnSideChooser turn_;
-  guidance::TurnSideParams turn_side_;
   guidance::TurnHull hard_turn_;  // the swept hull's hard turn: where a point cannot be reached
 };
 

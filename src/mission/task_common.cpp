@@ -166,6 +166,11 @@ StuckWatch::Progress StuckWatch::update(core::TimeNs now_ns, core::NavPoint ante
   return Progress::kMoving;
 }
 
+ReasonText StuckWatch::stuck_reason(core::NavPoint antenna) const {
+  return reason_printf("moved %.1f m in %.0f s: stop, back off, turn",
+                       core::distance_m(antenna, progress_at_), p_.stuck_s);
+}
+
 void back_off_then_look(const guidance::MapPlannerParams& p, double heading_now_deg, double t_s,
                         double look_deg, GuidanceRequest& out) {
   out.steer = true;

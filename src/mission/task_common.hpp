@@ -125,10 +125,10 @@ class StuckWatch {
   [[nodiscard]] double recovery_s(core::TimeNs now_ns) const {
     return core::ns_to_sec(now_ns - stuck_since_ns_);
   }
-  /// How far the boat moved in the last stuck_s (for the reason text).
-  [[nodiscard]] double moved_m(core::NavPoint antenna) const {
-    return core::distance_m(antenna, progress_at_);
-  }
+  /// Why the recovery started: how far the boat moved in the last stuck_s.
+  [[nodiscard]] ReasonText stuck_reason(core::NavPoint antenna) const;
+  /// The stop, back-off and look times and thrusts the recovery runs on.
+  [[nodiscard]] const guidance::MapPlannerParams& params() const { return p_; }
 
  private:
   guidance::MapPlannerParams p_;

@@ -80,7 +80,7 @@ class TurnSideChooser {
   /// long way, at most 90 degrees round from the present heading on that side.
   [[nodiscard]] double steer(double heading_deg, double desired_deg);
   [[nodiscard]] Side side() const { return side_; }
-  [[nodiscard]] const TurnHull& hull() const { return hull_; }
+  [[nodiscard]] bool enabled() const { return p_.enabled; }
 
  private:
   TurnSideParams p_;

@@ -297,6 +297,24 @@ TEST(MissionHold, ResumeRampsTheThrustFromZero) {
   EXPECT_LT(rig->thrust_frac(), 0.05);  // rise 0.2 / s: one tick after resume
 }
 
+// Ticks through one whole stuck recovery (stop, astern, look) and a little beyond: whether the
+// thruster ran astern, and ahead again after that.
+struct RecoverySeen {
+  bool astern = false;
+  bool ahead_again = false;
+};
+RecoverySeen sail_through_a_recovery(Rig& rig, const guidance::MapPlannerParams& p) {
+  RecoverySeen seen;
+  const int cycle_ticks =
+      static_cast<int>((p.stop_s + p.back_off_s + p.look_s) / core::ns_to_sec(kTickNs));
+  for (int i = 0; i < cycle_ticks + 10; ++i) {
+    rig.tick();
+    seen.astern = seen.astern || rig.out.command.pulse_us[1] < 1500;
+    seen.ahead_again = seen.ahead_again || (seen.astern && rig.thrust_frac() > 0.0);
+  }
+  return seen;
+}
+
 // A hopping leg held fast (a hull pinned on a pool wall): the tour notices, stops, backs off,
 // turns to the leg and sails on.
 TEST(MissionHopping, AHullHeldFastBacksOffAndSailsOnAlongTheLeg) {
@@ -307,14 +325,7 @@ TEST(MissionHopping, AHullHeldFastBacksOffAndSailsOnAlongTheLeg) {
   EXPECT_EQ(rig->path(), "hopping/to_wp1") << rig->log_text();
   rig->run_for(1.0);
   ASSERT_EQ(rig->path(), "hopping/stuck") << rig->log_text();
-  bool astern = false;
-  const int cycle_ticks =
-      static_cast<int>((p.stop_s + p.back_off_s + p.look_s) / core::ns_to_sec(kTickNs));
-  for (int i = 0; i < cycle_ticks + 10; ++i) {
-    rig->tick();
-    astern = astern || rig->out.command.pulse_us[1] < 1500;
-  }
-  EXPECT_TRUE(astern);
+  EXPECT_TRUE(sail_through_a_recovery(*rig, p).astern);
   EXPECT_EQ(rig->path(), "hopping/to_wp1") << rig->log_text();
   EXPECT_TRUE(rig->logged("backed off; on along the leg")) << rig->log_text();
 }
@@ -671,17 +682,9 @@ TEST(MissionObstacleCourse, ABoatThatMakesNoProgressBacksOffAndThenSailsOn) {
     rig->run_for(1.0);
     ASSERT_EQ(rig->path(), "obstacle_course/stuck") << rig->log_text();
     EXPECT_TRUE(rig->logged("moved 0.0 m in 5 s: stop, back off, turn")) << rig->log_text();
-    bool astern = false;
-    bool ahead_again = false;
-    const int cycle_ticks =
-        static_cast<int>((p.stop_s + p.back_off_s + p.look_s) / core::ns_to_sec(kTickNs));
-    for (int i = 0; i < cycle_ticks + 10; ++i) {
-      rig->tick();
-      astern = astern || rig->out.command.pulse_us[1] < 1500;
-      ahead_again = ahead_again || (astern && rig->thrust_frac() > 0.0);
-    }
-    EXPECT_TRUE(astern);
-    EXPECT_TRUE(ahead_again);
+    const RecoverySeen seen = sail_through_a_recovery(*rig, p);
+    EXPECT_TRUE(seen.astern);
+    EXPECT_TRUE(seen.ahead_again);
     EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
     EXPECT_TRUE(rig->logged("backed off; on toward the goal")) << rig->log_text();
   }
