@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "coxswain/core/angles.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "sim/devices/arduino/emulator.hpp"
@@ -23,6 +24,7 @@
 #include "sim/devices/myahrs/emulator.hpp"
 #include "sim/devices/rplidar/emulator.hpp"
 #include "sim/devices/ublox/emulator.hpp"
+#include "sim/dynamics/boat_model.hpp"
 #include "sim/sensors/camera_sim.hpp"
 #include "sim/sensors/gnss_sim.hpp"
 #include "sim/sensors/imu_sim.hpp"
@@ -61,13 +63,16 @@ ard::LogicConfig logic_config(const config::BoatConfig& boat, std::uint16_t fail
 sensors::BoatTruth boat_truth(const dynamics::TruthState& t) {
   sensors::BoatTruth b;
   b.pose = t.pose;
-  b.surge_mps = t.u_mps;
-  b.sway_mps = t.v_mps;
+  // The dynamics report the centre of gravity's velocity; the sensors want the body origin's.
+  const core::NavPoint v = dynamics::velocity_at(t, t.pose.position);
+  const double psi = core::deg_to_rad(t.pose.heading_deg);
+  b.surge_mps = std::cos(psi) * v.north_m + std::sin(psi) * v.east_m;
+  b.sway_mps = -std::sin(psi) * v.north_m + std::cos(psi) * v.east_m;
   b.yaw_rate_dps = t.yaw_rate_dps;
   b.accel_forward_mps2 = t.accel_forward_mps2;
   b.accel_starboard_mps2 = t.accel_starboard_mps2;
-  b.vel_north_mps = t.vel_north_mps;
-  b.vel_east_mps = t.vel_east_mps;
+  b.vel_north_mps = v.north_m;
+  b.vel_east_mps = v.east_m;
   return b;
 }
 

@@ -279,6 +279,14 @@ double BoatModel::resolve_contact(core::NavPoint normal, core::NavPoint point, d
   return -vn;
 }
 
+core::NavPoint velocity_at(const TruthState& truth, core::NavPoint point) {
+  // omega (about z down) x arm: clockwise yaw swings a point ahead of the centre to starboard.
+  const double r = core::deg_to_rad(truth.yaw_rate_dps);
+  const double arm_n = point.north_m - truth.cg.north_m;
+  const double arm_e = point.east_m - truth.cg.east_m;
+  return {truth.vel_north_mps - r * arm_e, truth.vel_east_mps + r * arm_n};
+}
+
 TruthState BoatModel::truth() const {
   TruthState t;
   t.stamp_ns = time_ns();

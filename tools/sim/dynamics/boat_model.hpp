@@ -79,6 +79,11 @@ struct TruthState {
   std::array<double, 2> thrust_n{};         // thrust of each thruster (channel order)
 };
 
+/// Velocity over ground (north, east, m/s) of a point fixed to the hull at `point` (navigation
+/// frame, at this instant): the centre of gravity's plus the yaw rate's swing of the arm from
+/// it. A sensor reports the velocity of where it sits, which differs in a turn.
+[[nodiscard]] core::NavPoint velocity_at(const TruthState& truth, core::NavPoint point);
+
 /// Current, gusting wind and wave-like forces, all seeded. step() advances the random parts.
 class Disturbances {
  public:

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "coxswain/core/angles.hpp"
+#include "sim/dynamics/boat_model.hpp"
 
 namespace coxswain::sim::runner {
 
@@ -44,10 +45,11 @@ void IdealSensorSuite::step(const dynamics::TruthState& truth, core::TimeNs now_
     f.h_acc_m = 0.01;
     f.satellites = 20;
     f.velocity_valid = true;
-    f.vel_north_mps = truth.vel_north_mps;
-    f.vel_east_mps = truth.vel_east_mps;
-    f.ground_speed_mps = std::hypot(truth.vel_north_mps, truth.vel_east_mps);
-    f.course_deg = core::rad_to_deg(std::atan2(truth.vel_east_mps, truth.vel_north_mps));
+    const core::NavPoint v = dynamics::velocity_at(truth, antenna);  // the antenna's own
+    f.vel_north_mps = v.north_m;
+    f.vel_east_mps = v.east_m;
+    f.ground_speed_mps = std::hypot(v.north_m, v.east_m);
+    f.course_deg = core::rad_to_deg(std::atan2(v.east_m, v.north_m));
     store.gnss.publish(f, now_ns);
   }
 }

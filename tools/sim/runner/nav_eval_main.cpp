@@ -6,6 +6,8 @@
 // (after the start) the antenna position error against the filter's covariance (inside the 95 %
 // ellipse, NEES) and the heading error. One JSON line per run, then a summary line.
 //   coxswain-nav-eval --runs 100 --seed0 10001 --bias-m 8 --jobs 2
+// `--trace FILE` writes every tick of the first run as CSV (time, error, covariance, NEES, the
+// receiver's true bias, heading error, speed): where a run leaves its ellipse, and why.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -48,7 +50,8 @@ double quantile(std::vector<double> v, double q) {
   return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
 }
 
-RunStats run_one(std::uint64_t seed, double bias_m, const config::Configuration& base) {
+RunStats run_one(std::uint64_t seed, double bias_m, const config::Configuration& base,
+                 std::FILE* trace) {
   sim::world::Course course = sim::world::generate_course(sim::world::CourseKind::kHopping, seed);
   const double u = std::fmod(static_cast<double>(seed) * 0.6180339887498949, 1.0);
   const double v = std::fmod(static_cast<double>(seed) * 0.7548776662466927, 1.0);
@@ -100,8 +103,17 @@ RunStats run_one(std::uint64_t seed, double bias_m, const config::Configuration&
     st.nees_sum += nees;
     if (nees <= 5.991) ++st.inside95;
     st.err_m.push_back(std::hypot(dn, de));
-    st.heading_err_deg.push_back(
-        std::abs(core::wrap_deg(out.viz.pose.heading_deg - truth.pose.heading_deg)));
+    const double heading_err_deg =
+        core::wrap_deg(out.viz.pose.heading_deg - truth.pose.heading_deg);
+    st.heading_err_deg.push_back(std::abs(heading_err_deg));
+    if (trace != nullptr) {
+      const core::NavPoint bias = suite.gnss().bias();
+      std::fprintf(trace, "%.2f,%.3f,%.3f,%.4f,%.4f,%.4f,%.3f,%.3f,%.3f,%.2f,%.2f,%.2f\n",
+                   core::ns_to_sec(runner.now_ns()), dn, de, a, b, c, nees, bias.north_m,
+                   bias.east_m, heading_err_deg,
+                   std::hypot(truth.vel_north_mps, truth.vel_east_mps),
+                   out.status.heading_sigma_deg);
+    }
   }
   const sim::runner::RunOutcome outcome = runner.run();
   st.passed = sim::runner::mission_passed(outcome.score);
@@ -120,6 +132,7 @@ int main(int argc, char** argv) {
   double bias_m = 8.0;
   unsigned jobs = 2;
   std::string mission = "config/missions/hopping.yaml";
+  std::string trace_path;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     const std::string val = argv[i + 1];
@@ -128,6 +141,7 @@ int main(int argc, char** argv) {
     if (k == "--bias-m") bias_m = std::atof(val.c_str());
     if (k == "--jobs") jobs = static_cast<unsigned>(std::max(1, std::atoi(val.c_str())));
     if (k == "--mission") mission = val;
+    if (k == "--trace") trace_path = val;
   }
   config::ConfigErrors errors;
   config::Configuration base;
@@ -138,6 +152,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s", errors.format().c_str());
     return 2;
   }
+  std::FILE* trace = nullptr;
+  if (!trace_path.empty()) {
+    trace = std::fopen(trace_path.c_str(), "w");
+    if (trace == nullptr) {
+      std::fprintf(stderr, "cannot write %s\n", trace_path.c_str());
+      return 2;
+    }
+    std::fprintf(trace,
+                 "t_s,err_n_m,err_e_m,cov_nn_m2,cov_ne_m2,cov_ee_m2,nees,true_bias_n_m,"
+                 "true_bias_e_m,heading_err_deg,speed_mps,heading_sigma_deg\n");
+  }
   std::vector<RunStats> results(static_cast<std::size_t>(std::max(runs, 0)));
   std::atomic<int> next{0};
   std::mutex io;
@@ -146,7 +171,7 @@ int main(int argc, char** argv) {
       const int i = next.fetch_add(1);
       if (i >= runs) return;
       const std::uint64_t seed = seed0 + static_cast<std::uint64_t>(i);
-      RunStats st = run_one(seed, bias_m, base);
+      RunStats st = run_one(seed, bias_m, base, i == 0 ? trace : nullptr);
       const std::lock_guard<std::mutex> lock(io);
       std::printf(
           "{\"seed\": %llu, \"passed\": %s, \"false_count\": %s, \"mission_arrived\": %u, "
@@ -180,6 +205,7 @@ int main(int argc, char** argv) {
     err.insert(err.end(), st.err_m.begin(), st.err_m.end());
     herr.insert(herr.end(), st.heading_err_deg.begin(), st.heading_err_deg.end());
   }
+  if (trace != nullptr) std::fclose(trace);
   std::printf(
       "summary: seeds %llu-%llu, bias %.1f m: success %zu/%d, runs counting a waypoint the judge "
       "did not %zu, ticks inside the 95%% ellipse %.2f%% of %zu, mean NEES %.2f (2 dof), position "

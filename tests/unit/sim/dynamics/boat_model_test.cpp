@@ -2,6 +2,8 @@
 // The boat model against hand-computed cases.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "sim/dynamics/boat_model.hpp"
@@ -224,6 +226,36 @@ TEST(BoatModel, PoseIsTheBowReferenceAheadOfTheCentreOfGravity) {
   EXPECT_NEAR(t.pose.position.north_m, 10.0, 1e-12);
   EXPECT_NEAR(t.pose.position.east_m, 5.0, 1e-12);
   EXPECT_NEAR(t.cg.east_m, 5.0 - 0.5, 1e-12);  // mid-hull is 0.5 m behind the origin
+}
+
+// A point on the hull moves at the velocity velocity_at gives it: in a steady turn the bow, the
+// centre of gravity and a point 0.6 m aft each move by their own velocity between two steps
+// (central difference), which differ by the yaw rate's swing.
+TEST(BoatModel, VelocityAtAHullPointIsTheDerivativeOfItsPosition) {
+  const config::BoatConfig boat = servo_boat();
+  BoatModel m(boat, otter_scaled(boat.hull.length_m), {}, 1);
+  m.reset({{0.0, 0.0}, 0.0});
+  m.set_pulses({1100, 1800});  // hard over, good thrust
+  run(m, 8.0);
+  const std::array<core::BodyPoint, 3> arms{{{0.0, 0.0}, {-0.5, 0.0}, {-0.6, 0.2}}};
+  const TruthState before = m.truth();
+  m.step();
+  const TruthState now = m.truth();
+  m.step();
+  const TruthState after = m.truth();
+  ASSERT_GT(std::abs(now.yaw_rate_dps), 10.0);
+  const double dt = 2.0 * m.dt_s();
+  double largest_swing_mps = 0.0;
+  for (const core::BodyPoint arm : arms) {
+    const core::NavPoint a = core::body_to_nav(before.pose, arm);
+    const core::NavPoint b = core::body_to_nav(after.pose, arm);
+    const core::NavPoint v = velocity_at(now, core::body_to_nav(now.pose, arm));
+    EXPECT_NEAR(v.north_m, (b.north_m - a.north_m) / dt, 2e-3);
+    EXPECT_NEAR(v.east_m, (b.east_m - a.east_m) / dt, 2e-3);
+    largest_swing_mps = std::max(
+        largest_swing_mps, std::hypot(v.north_m - now.vel_north_mps, v.east_m - now.vel_east_mps));
+  }
+  EXPECT_GT(largest_swing_mps, 0.05);  // the arms matter at this rate
 }
 
 }  // namespace

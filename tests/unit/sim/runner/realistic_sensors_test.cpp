@@ -32,27 +32,28 @@ config::Configuration load_config(const std::string& mission) {
   return c;
 }
 
-TEST(ToBoatTruth, CarriesEveryField) {
+TEST(ToBoatTruth, CarriesEveryFieldWithTheBodyOriginsVelocity) {
   dynamics::TruthState t;
-  t.pose = {{1.0, 2.0}, 30.0};
-  t.u_mps = 1.5;
-  t.v_mps = -0.1;
-  t.yaw_rate_dps = 4.0;
+  t.pose = {{1.0, 2.0}, 90.0};  // heading east
+  t.cg = {1.0, 1.5};            // 0.5 m aft of the bow
+  t.yaw_rate_dps = 10.0;
   t.accel_forward_mps2 = 0.2;
   t.accel_starboard_mps2 = -0.3;
-  t.vel_north_mps = 1.2;
-  t.vel_east_mps = 0.7;
+  t.vel_north_mps = 0.1;
+  t.vel_east_mps = 1.5;
   const sensors::BoatTruth b = to_boat_truth(t);
   EXPECT_EQ(b.pose.position.north_m, 1.0);
   EXPECT_EQ(b.pose.position.east_m, 2.0);
-  EXPECT_EQ(b.pose.heading_deg, 30.0);
-  EXPECT_EQ(b.surge_mps, 1.5);
-  EXPECT_EQ(b.sway_mps, -0.1);
-  EXPECT_EQ(b.yaw_rate_dps, 4.0);
+  EXPECT_EQ(b.pose.heading_deg, 90.0);
+  EXPECT_EQ(b.yaw_rate_dps, 10.0);
   EXPECT_EQ(b.accel_forward_mps2, 0.2);
   EXPECT_EQ(b.accel_starboard_mps2, -0.3);
-  EXPECT_EQ(b.vel_north_mps, 1.2);
-  EXPECT_EQ(b.vel_east_mps, 0.7);
+  // Turning to starboard, the bow (0.5 m ahead of the centre) swings south at r * 0.5 m.
+  const double swing = core::deg_to_rad(10.0) * 0.5;
+  EXPECT_NEAR(b.vel_north_mps, 0.1 - swing, 1e-12);
+  EXPECT_NEAR(b.vel_east_mps, 1.5, 1e-12);
+  EXPECT_NEAR(b.surge_mps, 1.5, 1e-12);
+  EXPECT_NEAR(b.sway_mps, swing - 0.1, 1e-12);
 }
 
 // From each 2022 docking decision point, facing the slip, the daemon's camera pipeline finds the
