@@ -602,6 +602,9 @@ constexpr std::array kCourse2{
     real_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::max_heading_step_deg>(
         "max_heading_step_deg", "deg", -360.0, 360.0, kFixed,
         "a bigger heading jump between samples is a glitch, not a turn"),
+    bool_param<Course2Config, &Course2Config::circling, &BuoyCirclingParams::count_only_seen>(
+        "count_only_seen", kFixed,
+        "only turns made with the buoy in sight count toward the circle (off: every turn)"),
     real_param<Course2Config, &Course2Config::circling_thrust_frac>(
         "circling_thrust_frac", "", 0.0, 1.0, kFixed, "thrust while circling"),
     real_param<Course2Config, &Course2Config::buoy_range_window_deg>(

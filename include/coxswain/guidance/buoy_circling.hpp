@@ -4,7 +4,7 @@
 // at a set body bearing (the camera looks to port, -90 deg) and, when the lidar gives its range,
 // at a set distance; "line tracing" around it. Completion is the accumulated turn, integrated from
 // wrap-safe heading differences, reaching 360 deg -- not the heading crossing 0 twice, which a
-// noisy compass near north does many times.
+// noisy compass near north does many times. Only the turn made with the buoy observed counts.
 #include <optional>
 #include <string>
 
@@ -20,6 +20,9 @@ struct BuoyCirclingParams {
   double search_turn_deg = 20.0;       // buoy not seen: keep turning this much to its side
   double complete_turn_deg = 360.0;    // accumulated turn that finishes the circle
   double max_heading_step_deg = 60.0;  // a bigger jump between samples is a glitch, not a turn
+  // Only turns made with the buoy in sight count: a boat turning blind (searching, or circling
+  // the wrong thing) has not gone round the buoy. Off: every turn counts (the documents' way).
+  bool count_only_seen = true;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };

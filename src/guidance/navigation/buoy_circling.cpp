@@ -44,7 +44,8 @@ BuoyCirclingOutput BuoyCircling::update(double heading_deg, const BuoyObservatio
     out.done = done_;
     return out;
   }
-  if (has_heading_) {
+  const bool seen = obs.bearing_deg && std::isfinite(*obs.bearing_deg);
+  if (has_heading_ && (seen || !p_.count_only_seen)) {
     const double step = core::angle_diff_deg(heading_deg, last_heading_deg_);
     // A jump bigger than the boat can turn in one sample is a compass glitch: not counted.
     if (std::abs(step) <= p_.max_heading_step_deg) turned_deg_ += step;
@@ -55,7 +56,7 @@ BuoyCirclingOutput BuoyCircling::update(double heading_deg, const BuoyObservatio
 
   const double side = p_.target_bearing_deg < 0.0 ? -1.0 : 1.0;  // toward the buoy's side
   double turn = side * p_.search_turn_deg;
-  if (obs.bearing_deg && std::isfinite(*obs.bearing_deg)) {
+  if (seen) {
     out.buoy_seen = true;
     // Buoy drifted aft of the target bearing (e.g. -110 for -90): turn toward it by that much.
     out.bearing_error_deg = core::angle_diff_deg(*obs.bearing_deg, p_.target_bearing_deg);

@@ -813,9 +813,11 @@ TEST(MissionCourse2, OneFullTurnUnderNoisyHeadingThenColourLedAndWaypoint) {
   turn(80.0);
   EXPECT_EQ(rig->path(), "course2/seek_colour") << rig->log_text();
   EXPECT_TRUE(rig->logged("course2/circling -> course2/seek_colour: one full turn"));
-  // Heading toward course -90 (the course frame's 0 is the start heading, 0 here).
+  // Heading toward course -90 (the course frame's 0 is the start heading, 0 here). Turned most
+  // of the way there first: a goal more than 90 deg off the bow is clamped by the avoidance.
   rig->noise_amplitude_deg = 0.0;
-  rig->tick();
+  rig->heading_deg = -80.0;
+  rig->run_for(1.0);
   EXPECT_TRUE(rig->out.viz.has_desired_heading);
   // The course frame's 0 is the (filtered, noisy) heading at the start.
   EXPECT_NEAR(rig->out.status.course_zero_deg, 0.0, 15.0);

@@ -300,7 +300,7 @@ TEST(BuoyCircling, CountsOneTurnWithNoisyHeadingCrossingZero) {
     const double h = core::wrap_deg(-0.5 * i + noise);
     if (i > 0 && std::signbit(h) != std::signbit(prev) && std::abs(h) < 90.0) ++naive_crossings;
     prev = h;
-    const BuoyCirclingOutput o = c.update(h, {});
+    const BuoyCirclingOutput o = c.update(h, {-90.0, std::nullopt});  // the buoy abeam
     if (o.done && done_at < 0) done_at = i;
   }
   EXPECT_GT(naive_crossings, 4);  // "passed 0 twice" fires almost at once
@@ -310,10 +310,36 @@ TEST(BuoyCircling, CountsOneTurnWithNoisyHeadingCrossingZero) {
 
 TEST(BuoyCircling, IgnoresCompassGlitches) {
   BuoyCircling c;
-  c.update(10.0, {});
-  c.update(-170.0, {});  // a 180 deg spike
-  const BuoyCirclingOutput o = c.update(10.0, {});
+  const BuoyObservation abeam{-90.0, std::nullopt};
+  c.update(10.0, abeam);
+  c.update(-170.0, abeam);  // a 180 deg spike
+  const BuoyCirclingOutput o = c.update(10.0, abeam);
   EXPECT_NEAR(o.turned_deg, 0.0, 1e-12);
+}
+
+// A boat that turns a full circle without the buoy in sight (searching for it, or circling the
+// wrong place) has not gone round it: only the turn made while it is observed counts. The
+// documents' way (every turn counts) stays available.
+TEST(BuoyCircling, ATurnMadeBlindDoesNotCountTowardTheCircle) {
+  BuoyCircling c;
+  BuoyCirclingParams every_turn;
+  every_turn.count_only_seen = false;
+  BuoyCircling documents(every_turn);
+  BuoyCirclingOutput blind;
+  BuoyCirclingOutput counted;
+  for (int i = 0; i <= 400; ++i) {
+    const double h = core::wrap_deg(-1.0 * i);  // 400 deg counter-clockwise
+    blind = c.update(h, {});
+    counted = documents.update(h, {});
+  }
+  EXPECT_FALSE(blind.done);
+  EXPECT_NEAR(blind.progress_deg, 0.0, 1e-12);
+  EXPECT_TRUE(counted.done);
+  EXPECT_NEAR(counted.progress_deg, 400.0, 1e-9);
+  // Half a turn more with the buoy abeam: that half counts.
+  for (int i = 401; i <= 580; ++i) blind = c.update(core::wrap_deg(-1.0 * i), {-90.0, 3.0});
+  EXPECT_NEAR(blind.progress_deg, 180.0, 1e-9);
+  EXPECT_FALSE(blind.done);
 }
 
 // Closed loop: a boat at 0.8 m/s holding a buoy on its port beam goes round it once.
