@@ -17,7 +17,7 @@ mkdir -p "$out"
 summary="$out/summary.txt"
 : >"$summary"
 status=0
-for exe in $(find "$build/tests/fuzz" -maxdepth 2 -type f -perm -u+x -name 'fuzz_*' | sort); do
+for exe in $(find "$build/tests/fuzz" -maxdepth 2 -type f -perm -u+x -name '*fuzz*' | sort); do
   name=$(basename "$exe")
   mkdir -p "$out/$name/corpus"
   start=$(date +%s)
