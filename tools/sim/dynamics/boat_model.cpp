@@ -13,7 +13,7 @@ namespace {
 constexpr double kRhoAir = 1.225;
 constexpr double kWindDragCoefficient = 1.0;  // bluff above-water body; our choice
 // Moment arm of the wave-like yaw moment (our choice: waves turn a small hull a little).
-constexpr double kWaveYawArm_m = 0.15;
+constexpr double kWaveYawArmM = 0.15;
 
 }  // namespace
 
@@ -89,7 +89,7 @@ Tau Disturbances::wave_tau(double t_s) const {
     }
   }
   const double amp = env_.wave_force_n / 3.0;
-  return {amp * axis[0], amp * axis[1], amp * kWaveYawArm_m * axis[2]};
+  return {amp * axis[0], amp * axis[1], amp * kWaveYawArmM * axis[2]};
 }
 
 BoatModel::BoatModel(const config::BoatConfig& boat, const DynamicsParams& params,
