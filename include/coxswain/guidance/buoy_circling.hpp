@@ -21,8 +21,9 @@ struct BuoyCirclingParams {
   double complete_turn_deg = 360.0;    // accumulated turn that finishes the circle
   double max_heading_step_deg = 60.0;  // a bigger jump between samples is a glitch, not a turn
   // Only turns made with the buoy in sight count: a boat turning blind (searching, or circling
-  // the wrong thing) has not gone round the buoy. Off: every turn counts (the documents' way).
-  bool count_only_seen = true;
+  // the wrong thing) has not gone round the buoy. Off (the default, the documents' way): every
+  // turn counts. On, a boat whose camera loses the buoy for part of the circle undercounts.
+  bool count_only_seen = false;
 
   [[nodiscard]] std::optional<std::string> validate() const;
 };

@@ -76,8 +76,6 @@ void apply_baseline(config::MissionConfig& m) {
   m.planning.planner.enabled = false;
   m.planning.planner.stuck_s = 0.0;
   m.planning.turn_side.enabled = false;
-  // They counted every turn of the heading as the circle round the buoy.
-  m.course2.circling.count_only_seen = false;
 }
 
 void print_summary_line(const std::string& label, const runner::MissionRunResult& r) {

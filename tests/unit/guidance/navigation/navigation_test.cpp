@@ -321,10 +321,10 @@ TEST(BuoyCircling, IgnoresCompassGlitches) {
 // wrong place) has not gone round it: only the turn made while it is observed counts. The
 // documents' way (every turn counts) stays available.
 TEST(BuoyCircling, ATurnMadeBlindDoesNotCountTowardTheCircle) {
-  BuoyCircling c;
-  BuoyCirclingParams every_turn;
-  every_turn.count_only_seen = false;
-  BuoyCircling documents(every_turn);
+  BuoyCirclingParams only_seen;
+  only_seen.count_only_seen = true;
+  BuoyCircling c(only_seen);
+  BuoyCircling documents;  // the default: every turn counts
   BuoyCirclingOutput blind;
   BuoyCirclingOutput counted;
   for (int i = 0; i <= 400; ++i) {
