@@ -16,7 +16,6 @@
 
 #include <unistd.h>
 
-#include "coxswain/core/angles.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "sim/devices/arduino/emulator.hpp"
@@ -24,7 +23,7 @@
 #include "sim/devices/myahrs/emulator.hpp"
 #include "sim/devices/rplidar/emulator.hpp"
 #include "sim/devices/ublox/emulator.hpp"
-#include "sim/dynamics/boat_model.hpp"
+#include "sim/runner/boat_truth.hpp"
 #include "sim/sensors/camera_sim.hpp"
 #include "sim/sensors/gnss_sim.hpp"
 #include "sim/sensors/imu_sim.hpp"
@@ -58,22 +57,6 @@ ard::LogicConfig logic_config(const config::BoatConfig& boat, std::uint16_t fail
   c.max_us[1] = a.thruster.max_us;
   c.failsafe_ms = failsafe_ms;
   return c;
-}
-
-sensors::BoatTruth boat_truth(const dynamics::TruthState& t) {
-  sensors::BoatTruth b;
-  b.pose = t.pose;
-  // The dynamics report the centre of gravity's velocity; the sensors want the body origin's.
-  const core::NavPoint v = dynamics::velocity_at(t, t.pose.position);
-  const double psi = core::deg_to_rad(t.pose.heading_deg);
-  b.surge_mps = std::cos(psi) * v.north_m + std::sin(psi) * v.east_m;
-  b.sway_mps = -std::sin(psi) * v.north_m + std::cos(psi) * v.east_m;
-  b.yaw_rate_dps = t.yaw_rate_dps;
-  b.accel_forward_mps2 = t.accel_forward_mps2;
-  b.accel_starboard_mps2 = t.accel_starboard_mps2;
-  b.vel_north_mps = v.north_m;
-  b.vel_east_mps = v.east_m;
-  return b;
 }
 
 void write_text(const fs::path& path, const std::string& text) {
@@ -423,7 +406,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
 
   // Prime every data source with the start state, then plug the devices in.
   dynamics::TruthState truth = model.truth();
-  sensors::BoatTruth bt = boat_truth(truth);
+  sensors::BoatTruth bt = runner::to_boat_truth(truth);
   lidar.reset(0, bt);
   if (gnss.update(0, bt)) s.gnss_emu.set_truth(gnss.fix());
   if (imu.update(0, bt)) s.imu_emu.set_truth(imu.sample());
@@ -499,7 +482,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
     ++out.world_steps;
     const core::TimeNs t = model.time_ns();
     truth = model.truth();
-    bt = boat_truth(truth);
+    bt = runner::to_boat_truth(truth);
     // 2. The sensors measure the new state; each emulator serves what its sensor measured.
     const sensors::LidarUpdate lu = lidar.update(t, bt);
     if (lu.raw_ready) {

@@ -1,29 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "sim/runner/realistic_sensors.hpp"
 
-#include <cmath>
-
-#include "coxswain/core/angles.hpp"
 #include "coxswain/perception/vision_params.hpp"
-#include "sim/dynamics/boat_model.hpp"
 
 namespace coxswain::sim::runner {
-
-sensors::BoatTruth to_boat_truth(const dynamics::TruthState& truth) {
-  sensors::BoatTruth b;
-  b.pose = truth.pose;
-  // The dynamics report the centre of gravity's velocity; the sensors want the body origin's.
-  const core::NavPoint v = dynamics::velocity_at(truth, truth.pose.position);
-  const double psi = core::deg_to_rad(truth.pose.heading_deg);
-  b.surge_mps = std::cos(psi) * v.north_m + std::sin(psi) * v.east_m;
-  b.sway_mps = -std::sin(psi) * v.north_m + std::cos(psi) * v.east_m;
-  b.yaw_rate_dps = truth.yaw_rate_dps;
-  b.accel_forward_mps2 = truth.accel_forward_mps2;
-  b.accel_starboard_mps2 = truth.accel_starboard_mps2;
-  b.vel_north_mps = v.north_m;
-  b.vel_east_mps = v.east_m;
-  return b;
-}
 
 sensors::SensorConfig fitted_sensor_config(const sensors::SensorConfig& base,
                                            const world::World& world,

@@ -15,15 +15,13 @@
 
 #include "coxswain/config/config.hpp"
 #include "coxswain/perception/camera_pipeline.hpp"
+#include "sim/runner/boat_truth.hpp"
 #include "sim/runner/sensor_suite.hpp"
 #include "sim/sensors/sensor_config.hpp"
 #include "sim/sensors/truth.hpp"
 #include "sim/world/world.hpp"
 
 namespace coxswain::sim::runner {
-
-/// The one place the runner's truth becomes what the simulated sensors measure.
-[[nodiscard]] sensors::BoatTruth to_boat_truth(const dynamics::TruthState& truth);
 
 /// The sensor config as the suite uses it: mounts from `boat`, the IMU declination from the
 /// world, the camera geometry from `devices`, per-sensor seeds derived from `seed`.
