@@ -3,13 +3,16 @@
 # Runs every libFuzzer target for a long bounded run (default 10^7 inputs each) and writes one
 # summary line per target: inputs run, time, coverage, and whether it found anything (a crash
 # file under OUT/<target>/). Builds the fuzz tree first (clang, -DCOXSWAIN_BUILD_FUZZ=ON).
-# Usage: tools/fuzz/long.sh [RUNS] [BUILD_DIR] [OUT_DIR]     (from the repository root)
+# Usage: tools/fuzz/long.sh [RUNS] [BUILD_DIR] [OUT_DIR] [FILTER]   (from the repository root)
+# FILTER, an extended regular expression, keeps the targets whose names match it (all by default),
+# so the slow targets can run beside the fast ones.
 # Each target runs single-process with a 4 KiB input limit and seed 1, as in CI; RUNS=10000000
 # takes hours per target on one core.
 set -euo pipefail
 runs=${1:-10000000}
 build=${2:-build-fuzz}
 out=${3:-fuzz-long-$(date -u +%Y%m%d-%H%M%S)}
+filter=${4:-.}
 cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCOXSWAIN_BUILD_FUZZ=ON -DCOXSWAIN_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)" --target coxswain_fuzzers
@@ -19,6 +22,7 @@ summary="$out/summary.txt"
 status=0
 for exe in $(find "$build/tests/fuzz" -maxdepth 2 -type f -perm -u+x -name '*fuzz*' | sort); do
   name=$(basename "$exe")
+  [[ "$name" =~ $filter ]] || continue
   mkdir -p "$out/$name/corpus"
   start=$(date +%s)
   if "$exe" -runs="$runs" -seed=1 -max_len=4096 -artifact_prefix="$out/$name/" \

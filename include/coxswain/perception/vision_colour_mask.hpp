@@ -33,10 +33,23 @@ struct ColourGaussian {
   [[nodiscard]] double distance2(double b, double g, double r) const;
 };
 
+/// One strip's samples, channel by channel (structure of arrays, so the distance passes over them
+/// vectorise). Kept by the caller between frames: its buffers are reused.
+struct ColourSamples {
+  std::vector<std::uint8_t> b;
+  std::vector<std::uint8_t> g;
+  std::vector<std::uint8_t> r;
+  std::vector<std::uint8_t> bucket;  // which eighth of the strip's width
+  std::vector<std::uint8_t> inside;  // scratch: within the current model's 3 sigma
+};
+
 /// Fits the dominant colour of rows [row_begin, row_end) of `bgr` (CV_8UC3) sampled every
 /// `p.sample_step_px`; invalid when that colour holds less than `p.min_share` of the samples.
 [[nodiscard]] ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_end,
                                                  const BackgroundParams& p);
+/// The same, with the caller's sample buffers (no allocation once they have grown).
+[[nodiscard]] ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_end,
+                                                 const BackgroundParams& p, ColourSamples& samples);
 
 /// Per-colour bits of one BGR value under `params` (bit i = params.colours[i]), through the same
 /// HSV boxes the table is built from (no background rejection).
@@ -84,6 +97,7 @@ class ColourMasker {
   std::vector<std::uint16_t> table_;        // from the HSV boxes
   std::vector<std::uint16_t> frame_table_;  // this frame's copy, background rejected
   std::array<ColourGaussian, BackgroundParams::kMaxStrips> background_{};
+  ColourSamples samples_;
   cv::Mat blurred_;
   cv::Mat labels_;
   std::vector<std::uint16_t> row_bits_;

@@ -49,28 +49,117 @@ bool invert3(const std::array<double, 9>& m, std::array<double, 9>& inv) {
   return true;
 }
 
-/// Running sums of BGR samples for a mean and covariance.
+/// Running sums of BGR samples for a mean and covariance, in integers: exact, so the order of the
+/// samples does not matter.
 struct Moments3 {
-  double n = 0.0;
-  std::array<double, 3> sum{};
-  std::array<double, 9> sum2{};
-  void add(const unsigned char* px) {
-    n += 1.0;
-    for (int i = 0; i < 3; ++i) {
-      sum[static_cast<std::size_t>(i)] += px[i];
-      for (int j = 0; j < 3; ++j) sum2[static_cast<std::size_t>(3 * i + j)] += px[i] * px[j];
-    }
+  std::int64_t n = 0;
+  std::array<std::int64_t, 3> sum{};
+  std::array<std::int64_t, 9> sum2{};
+  /// Fills the lower triangle from the upper.
+  void symmetrise() {
+    sum2[3] = sum2[1];
+    sum2[6] = sum2[2];
+    sum2[7] = sum2[5];
   }
 };
 
+/// Loops over the samples run in blocks of this many lanes: at -O2 the compiler vectorises only
+/// loops that need no remainder, so the sample buffers are padded to a whole number of blocks
+/// (padding samples are never flagged `inside`).
+constexpr std::size_t kLanes = 16;
+
+std::size_t padded(std::size_t n) { return (n + kLanes - 1) / kLanes * kLanes; }
+
+/// Sums of the samples flagged in `inside` (the first `n`, padding included). Branch-free, per
+/// lane, in blocks whose 32-bit sums cannot overflow (a product of two grey levels is below
+/// 2^16), so the loop vectorises.
+Moments3 moments_of(const ColourSamples& s, std::size_t n) {
+  constexpr std::size_t kBlock = 1U << 14;  // samples per lane sum: kBlock * 65025 < 2^32
+  constexpr std::size_t kSums = 10;
+  Moments3 m;
+  const std::size_t total = padded(n);
+  for (std::size_t begin = 0; begin < total; begin += kBlock * kLanes) {
+    const std::size_t end = std::min(total, begin + kBlock * kLanes);
+    std::array<std::array<std::uint32_t, kLanes>, kSums> acc{};
+    for (std::size_t i = begin; i < end; i += kLanes) {
+      for (std::size_t k = 0; k < kLanes; ++k) {
+        const std::uint32_t f = s.inside[i + k];
+        const std::uint32_t b = s.b[i + k] * f;
+        const std::uint32_t g = s.g[i + k] * f;
+        const std::uint32_t r = s.r[i + k] * f;
+        acc[0][k] += f;
+        acc[1][k] += b;
+        acc[2][k] += g;
+        acc[3][k] += r;
+        acc[4][k] += b * b;
+        acc[5][k] += b * g;
+        acc[6][k] += b * r;
+        acc[7][k] += g * g;
+        acc[8][k] += g * r;
+        acc[9][k] += r * r;
+      }
+    }
+    std::array<std::int64_t, kSums> t{};
+    for (std::size_t j = 0; j < kSums; ++j) {
+      for (const std::uint32_t v : acc[j]) t[j] += v;
+    }
+    m.n += t[0];
+    m.sum[0] += t[1];
+    m.sum[1] += t[2];
+    m.sum[2] += t[3];
+    m.sum2[0] += t[4];
+    m.sum2[1] += t[5];
+    m.sum2[2] += t[6];
+    m.sum2[4] += t[7];
+    m.sum2[5] += t[8];
+    m.sum2[8] += t[9];
+  }
+  m.symmetrise();
+  return m;
+}
+
+/// Flags in `s.inside` the first `n` samples within squared Mahalanobis distance `limit2` of
+/// `model`; the padding after them is left unflagged. In single precision with the symmetric
+/// form, in whole blocks, so the loop vectorises.
+void mark_within(const ColourGaussian& model, double limit2, std::size_t n, ColourSamples& s) {
+  const auto m0 = static_cast<float>(model.mean_bgr[0]);
+  const auto m1 = static_cast<float>(model.mean_bgr[1]);
+  const auto m2 = static_cast<float>(model.mean_bgr[2]);
+  const std::array<double, 9>& a = model.inverse_covariance;
+  const auto a00 = static_cast<float>(a[0]);
+  const auto a11 = static_cast<float>(a[4]);
+  const auto a22 = static_cast<float>(a[8]);
+  const auto a01 = static_cast<float>(a[1] + a[3]);
+  const auto a02 = static_cast<float>(a[2] + a[6]);
+  const auto a12 = static_cast<float>(a[5] + a[7]);
+  const auto limit = static_cast<float>(limit2);
+  const std::uint8_t* b = s.b.data();
+  const std::uint8_t* g = s.g.data();
+  const std::uint8_t* r = s.r.data();
+  std::uint8_t* out = s.inside.data();
+  const std::size_t total = padded(n);
+  for (std::size_t i = 0; i < total; i += kLanes) {
+    for (std::size_t k = 0; k < kLanes; ++k) {
+      const float d0 = static_cast<float>(b[i + k]) - m0;
+      const float d1 = static_cast<float>(g[i + k]) - m1;
+      const float d2 = static_cast<float>(r[i + k]) - m2;
+      const float q = a00 * d0 * d0 + a11 * d1 * d1 + a22 * d2 * d2 + a01 * d0 * d1 +
+                      a02 * d0 * d2 + a12 * d1 * d2;
+      out[i + k] = q <= limit ? 1 : 0;
+    }
+  }
+  std::fill(out + n, out + total, std::uint8_t{0});
+}
+
 /// Mean and covariance from `m`, each axis' spread clamped to [min_sigma, max_sigma].
 bool to_gaussian(const Moments3& m, const BackgroundParams& p, ColourGaussian& g) {
-  if (m.n < 8.0) return false;
+  if (m.n < 8) return false;
+  const auto n = static_cast<double>(m.n);
   std::array<double, 9> cov{};
-  for (std::size_t i = 0; i < 3; ++i) g.mean_bgr[i] = m.sum[i] / m.n;
+  for (std::size_t i = 0; i < 3; ++i) g.mean_bgr[i] = static_cast<double>(m.sum[i]) / n;
   for (std::size_t i = 0; i < 3; ++i) {
     for (std::size_t j = 0; j < 3; ++j) {
-      cov[3 * i + j] = m.sum2[3 * i + j] / m.n - g.mean_bgr[i] * g.mean_bgr[j];
+      cov[3 * i + j] = static_cast<double>(m.sum2[3 * i + j]) / n - g.mean_bgr[i] * g.mean_bgr[j];
     }
   }
   std::array<double, 3> scale{};
@@ -90,6 +179,30 @@ bool to_gaussian(const Moments3& m, const BackgroundParams& p, ColourGaussian& g
   return invert3(cov, g.inverse_covariance);
 }
 
+/// ORs `labels` into `cols` element by element and returns the OR of all of `labels`. In blocks
+/// of a fixed size: at -O2 the compiler vectorises only loops that need no remainder, and the
+/// arguments are restrict-qualified so it knows they do not overlap.
+std::uint16_t or_into(const std::uint16_t* __restrict labels, std::uint16_t* __restrict cols,
+                      int width) {
+  constexpr int kBlock = 16;
+  std::array<std::uint16_t, kBlock> all{};
+  int x = 0;
+  for (; x + kBlock <= width; x += kBlock) {
+    for (int k = 0; k < kBlock; ++k) {
+      const auto i = static_cast<std::size_t>(k);
+      all[i] = static_cast<std::uint16_t>(all[i] | labels[x + k]);
+      cols[x + k] = static_cast<std::uint16_t>(cols[x + k] | labels[x + k]);
+    }
+  }
+  std::uint16_t any = 0;
+  for (; x < width; ++x) {
+    any = static_cast<std::uint16_t>(any | labels[x]);
+    cols[x] = static_cast<std::uint16_t>(cols[x] | labels[x]);
+  }
+  for (const std::uint16_t a : all) any = static_cast<std::uint16_t>(any | a);
+  return any;
+}
+
 }  // namespace
 
 double ColourGaussian::distance2(double b, double g, double r) const {
@@ -103,70 +216,74 @@ double ColourGaussian::distance2(double b, double g, double r) const {
 
 ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_end,
                                    const BackgroundParams& p) {
+  ColourSamples samples;
+  return fit_dominant_colour(bgr, row_begin, row_end, p, samples);
+}
+
+ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_end,
+                                   const BackgroundParams& p, ColourSamples& samples) {
   ColourGaussian g;
   if (bgr.empty() || bgr.type() != CV_8UC3) return g;
   row_begin = std::clamp(row_begin, 0, bgr.rows);
   row_end = std::clamp(row_end, row_begin, bgr.rows);
   const int step = std::max(1, p.sample_step_px);
-  // Coarse 8x8x8 histogram; the dominant colour is the fullest bin and its neighbours.
+  constexpr int kBuckets = 8;
+  // One pass gathers the samples and a coarse 8x8x8 histogram; the dominant colour is the fullest
+  // bin and its neighbours.
+  const int per_row = std::max(0, (bgr.cols - step / 2 + step - 1) / step);
+  const int rows = std::max(0, (row_end - row_begin - step / 2 + step - 1) / step);
+  const std::size_t capacity =
+      padded(static_cast<std::size_t>(per_row) * static_cast<std::size_t>(rows));
+  for (auto* v : {&samples.b, &samples.g, &samples.r, &samples.bucket, &samples.inside}) {
+    if (v->size() < capacity) v->resize(capacity);
+  }
   std::array<int, 512> hist{};
-  int total = 0;
-  const auto bin = [](const unsigned char* px) {
-    return ((px[0] >> 5) << 6) | ((px[1] >> 5) << 3) | (px[2] >> 5);
-  };
+  std::size_t n = 0;
   for (int y = row_begin + step / 2; y < row_end; y += step) {
     const unsigned char* row = bgr.ptr<unsigned char>(y);
-    for (int x = step / 2; x < bgr.cols; x += step) {
-      ++hist[static_cast<std::size_t>(bin(row + 3 * x))];
-      ++total;
+    for (int x = step / 2; x < bgr.cols; x += step, ++n) {
+      const unsigned char* px = row + 3 * x;
+      samples.b[n] = px[0];
+      samples.g[n] = px[1];
+      samples.r[n] = px[2];
+      samples.bucket[n] = static_cast<std::uint8_t>(x * kBuckets / bgr.cols);
+      ++hist[static_cast<std::size_t>(((px[0] >> 5) << 6) | ((px[1] >> 5) << 3) | (px[2] >> 5))];
     }
   }
-  if (total == 0) return g;
+  if (n == 0) return g;
   const auto peak = static_cast<int>(std::max_element(hist.begin(), hist.end()) - hist.begin());
   const int pb = peak >> 6;
   const int pg = (peak >> 3) & 7;
   const int pr = peak & 7;
-  Moments3 first;
-  for (int y = row_begin + step / 2; y < row_end; y += step) {
-    const unsigned char* row = bgr.ptr<unsigned char>(y);
-    for (int x = step / 2; x < bgr.cols; x += step) {
-      const unsigned char* px = row + 3 * x;
-      if (std::abs((px[0] >> 5) - pb) <= 1 && std::abs((px[1] >> 5) - pg) <= 1 &&
-          std::abs((px[2] >> 5) - pr) <= 1) {
-        first.add(px);
-      }
-    }
+  std::fill(samples.inside.begin() + static_cast<std::ptrdiff_t>(n),
+            samples.inside.begin() + static_cast<std::ptrdiff_t>(padded(n)), std::uint8_t{0});
+  for (std::size_t i = 0; i < n; ++i) {
+    samples.inside[i] = std::abs((samples.b[i] >> 5) - pb) <= 1 &&
+                                std::abs((samples.g[i] >> 5) - pg) <= 1 &&
+                                std::abs((samples.r[i] >> 5) - pr) <= 1
+                            ? 1
+                            : 0;
   }
   ColourGaussian rough;
-  if (!to_gaussian(first, p, rough)) return g;
+  if (!to_gaussian(moments_of(samples, n), p, rough)) return g;
   // Refit twice on the samples within 3 sigma of the last estimate: drops the neighbouring
   // bins' share of whatever else is in the strip (a buoy, a hull) and follows a gradient (sky).
+  constexpr double kWithin2 = 9.0;
   Moments3 second;
   for (int pass = 0; pass < 2; ++pass) {
-    second = Moments3{};
-    for (int y = row_begin + step / 2; y < row_end; y += step) {
-      const unsigned char* row = bgr.ptr<unsigned char>(y);
-      for (int x = step / 2; x < bgr.cols; x += step) {
-        const unsigned char* px = row + 3 * x;
-        if (rough.distance2(px[0], px[1], px[2]) <= 9.0) second.add(px);
-      }
-    }
+    mark_within(rough, kWithin2, n, samples);
+    second = moments_of(samples, n);
     if (!to_gaussian(second, p, rough)) return ColourGaussian{};
   }
   g = rough;
   // Water and sky span the frame: the colour must hold a fifth of nearly every eighth of the
   // strip's width.
-  constexpr int kBuckets = 8;
+  mark_within(g, kWithin2, n, samples);
   std::array<int, kBuckets> members{};
   std::array<int, kBuckets> seen{};
-  for (int y = row_begin + step / 2; y < row_end; y += step) {
-    const unsigned char* row = bgr.ptr<unsigned char>(y);
-    for (int x = step / 2; x < bgr.cols; x += step) {
-      const unsigned char* px = row + 3 * x;
-      const auto k = static_cast<std::size_t>(x * kBuckets / bgr.cols);
-      ++seen[k];
-      if (g.distance2(px[0], px[1], px[2]) <= 9.0) ++members[k];
-    }
+  for (std::size_t i = 0; i < n; ++i) {
+    ++seen[samples.bucket[i]];
+    members[samples.bucket[i]] += samples.inside[i];
   }
   // One eighth may be lacking: a placard or a hull in front of the water.
   int lacking = 0;
@@ -174,7 +291,7 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
     lacking += seen[k] > 0 && members[k] * 5 < seen[k] ? 1 : 0;
   }
   const bool spans = lacking <= 1;
-  g.share = second.n / static_cast<double>(total);
+  g.share = static_cast<double>(second.n) / static_cast<double>(n);
   int h = 0;
   int s = 0;
   int v = 0;
@@ -260,7 +377,7 @@ bool ColourMasker::set_frame(const cv::Mat& bgr) {
     const int strips = std::clamp(p.strips, 1, BackgroundParams::kMaxStrips);
     for (int k = 0; k < strips; ++k) {
       background_[static_cast<std::size_t>(k)] =
-          fit_dominant_colour(*src, k * height / strips, (k + 1) * height / strips, p);
+          fit_dominant_colour(*src, k * height / strips, (k + 1) * height / strips, p, samples_);
     }
     // Water reaches the bottom of the frame and sky the top: a strip's model counts only when a
     // chain of like strips joins it to the bottom or top strip. A large marker in the middle of
@@ -296,15 +413,13 @@ bool ColourMasker::set_frame(const cv::Mat& bgr) {
   for (int y = 0; y < height; ++y) {
     const unsigned char* px = src->ptr<unsigned char>(y);
     auto* out = labels_.ptr<std::uint16_t>(y);
-    std::uint16_t row = 0;
     for (int x = 0; x < width; ++x, px += 3) {
-      const std::uint16_t v = table[((px[0] >> kShift) << (2 * kLevelBits)) |
-                                    ((px[1] >> kShift) << kLevelBits) | (px[2] >> kShift)];
-      out[x] = v;
-      row = static_cast<std::uint16_t>(row | v);
-      cols[x] = static_cast<std::uint16_t>(cols[x] | v);
+      out[x] = table[((px[0] >> kShift) << (2 * kLevelBits)) | ((px[1] >> kShift) << kLevelBits) |
+                     (px[2] >> kShift)];
     }
-    row_bits_[static_cast<std::size_t>(y)] = row;
+    // A second pass over the row's labels (in cache): the lookups above cannot vectorise, these
+    // ORs can.
+    row_bits_[static_cast<std::size_t>(y)] = or_into(out, cols, width);
   }
   return true;
 }
