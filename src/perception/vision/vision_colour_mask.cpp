@@ -242,7 +242,7 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
   for (int y = row_begin + step / 2; y < row_end; y += step) {
     const unsigned char* row = bgr.ptr<unsigned char>(y);
     for (int x = step / 2; x < bgr.cols; x += step, ++n) {
-      const unsigned char* px = row + 3 * x;
+      const unsigned char* px = row + static_cast<std::ptrdiff_t>(3) * x;
       samples.b[n] = px[0];
       samples.g[n] = px[1];
       samples.r[n] = px[2];
@@ -351,8 +351,11 @@ void ColourMasker::reject(const ColourGaussian& g) {
   for (int b = lo[0]; b <= hi[0]; ++b) {
     for (int gg = lo[1]; gg <= hi[1]; ++gg) {
       for (int rr = lo[2]; rr <= hi[2]; ++rr) {
-        if (g.distance2(b * kCell + kCell / 2, gg * kCell + kCell / 2, rr * kCell + kCell / 2) <
-            r2) {
+        // Each cell is judged at its centre grey level.
+        const int cb = b * kCell + kCell / 2;
+        const int cg = gg * kCell + kCell / 2;
+        const int cr = rr * kCell + kCell / 2;
+        if (g.distance2(cb, cg, cr) < r2) {
           frame_table_[static_cast<std::size_t>((b << (2 * kLevelBits)) | (gg << kLevelBits) |
                                                 rr)] = 0;
         }
