@@ -168,7 +168,10 @@ void EvalTally::add(const LabelledFrame& frame, const msg::CameraDetections& det
     for (std::size_t i = 0; i < n; ++i) {
       const msg::Detection& d = detections.detections[i];
       if (!on(d, o)) continue;
-      if (d.colour == o.colour && d.shape == o.shape) hit = true;
+      if (d.colour == o.colour && d.shape == o.shape && !hit) {
+        hit = true;
+        centre_dx_px.push_back(static_cast<double>(d.center_x_px) - (o.box.x + 0.5 * o.box.width));
+      }
       // Shapes reported on the object in its colour (a glyph's buoy reading left out).
       if (d.colour == o.colour && (d.shape != msg::Shape::kBuoy || o.shape == msg::Shape::kBuoy)) {
         ++shape_confusion[si(o.shape)][si(d.shape)];
@@ -256,6 +259,17 @@ std::string EvalTally::report() const {
     o << std::fixed << std::setprecision(2) << "time per frame: median "
       << percentile(frame_ms, 0.5) << " ms, p99 " << percentile(frame_ms, 0.99) << " ms, max "
       << percentile(frame_ms, 1.0) << " ms\n";
+  }
+  if (!centre_dx_px.empty()) {
+    std::vector<double> abs_dx(centre_dx_px.size());
+    std::transform(centre_dx_px.begin(), centre_dx_px.end(), abs_dx.begin(),
+                   [](double v) { return std::abs(v); });
+    double sum = 0.0;
+    for (const double v : centre_dx_px) sum += v;
+    o << std::fixed << std::setprecision(2)
+      << "horizontal centre of found objects against the label's (the bearing's error): median "
+      << percentile(abs_dx, 0.5) << " px, p95 " << percentile(abs_dx, 0.95) << " px, mean "
+      << sum / static_cast<double>(centre_dx_px.size()) << " px (signed)\n";
   }
   o << "\nrecall % (found / labelled) by colour and shape\n"
     << "colour    triangle rectangle    cross   circle     buoy |  recall precision\n";

@@ -60,6 +60,9 @@ struct EvalTally {
   std::vector<std::string> false_report_notes;  // the first few, "file: colour/shape at x,y"
   std::vector<std::string> miss_notes;          // the first few missed objects
   std::vector<double> frame_ms;
+  // Found objects: the detection's horizontal centre minus the labelled box's, in pixels (a
+  // camera bearing comes from it, so a bias here is a bearing bias).
+  std::vector<double> centre_dx_px;
 
   void add(const LabelledFrame& frame, const msg::CameraDetections& detections);
   [[nodiscard]] double recall_colour(msg::Colour c) const;  // -1 when nothing labelled

@@ -86,6 +86,22 @@ TEST(VisionEval, CountsHitsMissesWrongShapesAndFalseReports) {
                              [static_cast<std::size_t>(Shape::kRectangle)],
             1);
   EXPECT_NE(t.report().find("recall"), std::string::npos);
+  // The one hit's centre, 120, against its box's, 100 + 40 / 2: the bearing's error in pixels.
+  ASSERT_EQ(t.centre_dx_px.size(), 1U);
+  EXPECT_DOUBLE_EQ(t.centre_dx_px[0], 0.0);
+  EXPECT_NE(t.report().find("horizontal centre"), std::string::npos);
+}
+
+TEST(VisionEval, AHitOffItsBoxCentreIsABearingError) {
+  const auto frames = parse("f1.png,red,circle,100,100,40,40,\n");
+  EvalTally t;
+  msg::CameraDetections d;
+  d.count = 1;
+  d.detections[0] = det(Colour::kRed, Shape::kCircle, 113, 120);
+  t.add(frames[0], d);
+  ASSERT_EQ(t.centre_dx_px.size(), 1U);
+  EXPECT_DOUBLE_EQ(t.centre_dx_px[0], -7.0);
+  EXPECT_NE(t.report().find("mean -7.00 px"), std::string::npos) << t.report();
 }
 
 TEST(VisionEval, CalibrationFitsTheBoxAroundTheLabelledPixels) {
