@@ -15,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <opencv2/core/utility.hpp>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -334,6 +335,10 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
   auto latest_frame = std::make_unique<drivers::camera::LatestFrame>();
   std::unique_ptr<drivers::camera::ViewerImages> viewer_images;
   if (config.devices.camera.enabled) {
+    // The camera's work (capture, detection, the viewers' JPEGs) runs on the camera's own
+    // threads, frame by frame: an OpenCV worker pool beside them would only compete with the tick
+    // and the device threads for the boat computer's few cores.
+    cv::setNumThreads(1);
     const bool images =
         config.devices.camera.image_rate_hz > 0.0 && (recorder != nullptr || live_server);
     // The detector tunables in force are the core's (live-tunable HSV boxes).

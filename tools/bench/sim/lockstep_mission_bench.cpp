@@ -5,6 +5,8 @@
 // sim_s_per_s = simulated seconds per second of CPU: the real-time factor.
 #include <benchmark/benchmark.h>
 
+#include <opencv2/core/utility.hpp>
+
 #include "sim/runner/mission_run.hpp"
 #include "sim/world/course.hpp"
 
@@ -13,6 +15,8 @@ namespace {
 using namespace coxswain;
 
 void BM_LockstepKaboat2026ThreeMinutes(benchmark::State& state) {
+  // As coxswain-sim runs it: one world per thread, no OpenCV worker pool beside it.
+  cv::setNumThreads(1);
   const std::string dir = std::string(COXSWAIN_SOURCE_DIR) + "/config/";
   config::ConfigErrors errors;
   const sim::world::Course course =

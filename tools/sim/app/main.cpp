@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <opencv2/core/utility.hpp>
 #include <string>
 
 #include "commands.hpp"
@@ -12,6 +13,9 @@
 #include "coxswain/version.hpp"
 
 int main(int argc, char** argv) {
+  // Each lockstep world runs on one thread (a batch runs one per job); an OpenCV worker pool
+  // beside them only competes for the same cores (about 5 % of a camera run's time).
+  cv::setNumThreads(1);
   CLI::App app{"coxswain-sim: the coxswain simulator (courses, boat dynamics, scoring)"};
   app.set_version_flag("--version", std::string("coxswain-sim ") + coxswain::kVersion + " (git " +
                                         coxswain::kGitHash + ")");
