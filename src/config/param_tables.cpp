@@ -344,6 +344,9 @@ constexpr std::array kVision{
         "horizontal strips, each with its own model"),
     int_param<VisionParams, &VisionParams::background, &BackgroundParams::sample_step_px>(
         "background.sample_step_px", "px", 1, 64, kFixed, "sampling grid pitch"),
+    int_param<VisionParams, &VisionParams::background, &BackgroundParams::max_samples>(
+        "background.max_samples", "", 100, 1000000, kFixed,
+        "samples per strip at most: a larger frame's grid is coarsened to stay within it"),
     real_param<VisionParams, &VisionParams::background, &BackgroundParams::min_share>(
         "background.min_share", "", 1e-3, 1.0, kFixed,
         "share of a strip's samples the dominant colour must hold"),

@@ -44,7 +44,8 @@ struct ColourSamples {
 };
 
 /// Fits the dominant colour of rows [row_begin, row_end) of `bgr` (CV_8UC3) sampled every
-/// `p.sample_step_px`; invalid when that colour holds less than `p.min_share` of the samples.
+/// `p.sample_step_px` (coarser when that grid would hold more than `p.max_samples`); invalid when
+/// that colour holds less than `p.min_share` of the samples.
 [[nodiscard]] ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_end,
                                                  const BackgroundParams& p);
 /// The same, with the caller's sample buffers (no allocation once they have grown).

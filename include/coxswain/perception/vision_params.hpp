@@ -63,6 +63,8 @@ struct BackgroundParams {
   bool enabled = true;
   int strips = 8;             // horizontal strips, each with its own model
   int sample_step_px = 4;     // sampling grid pitch in both directions
+  int max_samples = 2400;     // per strip: a larger frame's grid is coarsened to stay within this
+                              // (640 x 480 in 8 strips at 4 px holds exactly 2400)
   double min_share = 0.50;    // the dominant colour must hold this share of a strip's samples
   double reject_sigma = 4.5;  // Mahalanobis radius rejected around the background colour
   double min_sigma = 5.0;     // grey levels: floor of each axis' spread (flat, noiseless water)

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 namespace coxswain::perception {
 namespace {
@@ -226,12 +227,24 @@ ColourGaussian fit_dominant_colour(const cv::Mat& bgr, int row_begin, int row_en
   if (bgr.empty() || bgr.type() != CV_8UC3) return g;
   row_begin = std::clamp(row_begin, 0, bgr.rows);
   row_end = std::clamp(row_end, row_begin, bgr.rows);
-  const int step = std::max(1, p.sample_step_px);
   constexpr int kBuckets = 8;
+  // The grid's pitch: the configured one, coarsened on a large frame until the strip's samples
+  // fit the cap (the fit needs a few thousand, however many pixels the camera has).
+  const auto grid_count = [&](int pitch) {
+    const int across = std::max(0, (bgr.cols - pitch / 2 + pitch - 1) / pitch);
+    const int down = std::max(0, (row_end - row_begin - pitch / 2 + pitch - 1) / pitch);
+    return std::pair<int, int>{across, down};
+  };
+  int step = std::max(1, p.sample_step_px);
+  const auto cap = static_cast<std::size_t>(std::max(1, p.max_samples));
+  for (;;) {
+    const auto [across, down] = grid_count(step);
+    if (static_cast<std::size_t>(across) * static_cast<std::size_t>(down) <= cap) break;
+    ++step;
+  }
   // One pass gathers the samples and a coarse 8x8x8 histogram; the dominant colour is the fullest
   // bin and its neighbours.
-  const int per_row = std::max(0, (bgr.cols - step / 2 + step - 1) / step);
-  const int rows = std::max(0, (row_end - row_begin - step / 2 + step - 1) / step);
+  const auto [per_row, rows] = grid_count(step);
   const std::size_t capacity =
       padded(static_cast<std::size_t>(per_row) * static_cast<std::size_t>(rows));
   for (auto* v : {&samples.b, &samples.g, &samples.r, &samples.bucket, &samples.inside}) {

@@ -89,6 +89,9 @@ std::optional<std::string> VisionParams::validate() const {
     return "background.strips in 1..16";
   }
   if (b.sample_step_px < 1 || b.sample_step_px > 64) return "background.sample_step_px in 1..64";
+  if (b.max_samples < 100 || b.max_samples > 1000000) {
+    return "background.max_samples in 100..1000000";
+  }
   if (!(b.min_share > 0.0 && b.min_share <= 1.0)) return "background.min_share in (0,1]";
   if (!(b.reject_sigma >= 0.0 && b.reject_sigma <= 10.0)) {
     return "background.reject_sigma in [0,10]";

@@ -31,6 +31,8 @@ void expect_same(const VisionParams& a, const VisionParams& b) {
   EXPECT_EQ(a.close_kernel_px, b.close_kernel_px);
   EXPECT_DOUBLE_EQ(a.min_area_fraction, b.min_area_fraction);
   EXPECT_EQ(a.background.strips, b.background.strips);
+  EXPECT_EQ(a.background.sample_step_px, b.background.sample_step_px);
+  EXPECT_EQ(a.background.max_samples, b.background.max_samples);
   EXPECT_DOUBLE_EQ(a.background.reject_sigma, b.background.reject_sigma);
   EXPECT_EQ(a.background.max_saturation, b.background.max_saturation);
   EXPECT_DOUBLE_EQ(a.shape.island_min_hole_fraction, b.shape.island_min_hole_fraction);

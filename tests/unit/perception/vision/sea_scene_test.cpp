@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "coxswain/perception/camera_pipeline.hpp"
+#include "coxswain/perception/vision_colour_mask.hpp"
 #include "vision_scene.hpp"
 
 namespace coxswain::perception {
@@ -29,6 +30,31 @@ int count_except(const msg::CameraDetections& out, Colour colour) {
   int n = 0;
   for (std::uint32_t i = 0; i < out.count; ++i) n += out.detections[i].colour != colour ? 1 : 0;
   return n;
+}
+
+// The water model's grid is capped per strip: a 640 x 480 frame in 8 strips at 4 px holds
+// exactly the default cap, so its fit is the uncapped one; a 1280 x 720 frame samples a coarser
+// grid (every 7th pixel) and its blue-green sea is still no colour.
+TEST(SeaScene, TheSampleCapLeavesA640FrameAsItWasAndStillTakesOutALargeFramesSea) {
+  BackgroundParams capped;
+  BackgroundParams uncapped = capped;
+  uncapped.max_samples = 1000000;
+  const cv::Mat small = gen::harbour_scene(5);
+  for (int k = 0; k < capped.strips; ++k) {
+    const int r0 = k * small.rows / capped.strips;
+    const int r1 = (k + 1) * small.rows / capped.strips;
+    const ColourGaussian a = fit_dominant_colour(small, r0, r1, capped);
+    const ColourGaussian b = fit_dominant_colour(small, r0, r1, uncapped);
+    EXPECT_EQ(a.valid, b.valid) << "strip " << k;
+    EXPECT_EQ(a.mean_bgr, b.mean_bgr) << "strip " << k;
+    EXPECT_EQ(a.share, b.share) << "strip " << k;
+  }
+  CameraPipeline pipeline;
+  msg::CameraDetections out;
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    ASSERT_TRUE(pipeline.process(gen::harbour_scene(seed, 1280, 720), 0, out));
+    EXPECT_EQ(out.count, 0U) << "seed " << seed;
+  }
 }
 
 TEST(SeaScene, BlueSeaFallsInsideTheBlueBoxYetIsNoColour) {
