@@ -4,6 +4,7 @@
 // against the device emulators in real time (`devices`).
 #include <CLI/CLI.hpp>
 
+#include <exception>
 #include <iostream>
 #include <opencv2/core/utility.hpp>
 #include <string>
@@ -12,7 +13,9 @@
 #include "coxswain/app/cli.hpp"
 #include "coxswain/version.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_main(int argc, char** argv) {
   // Each lockstep world runs on one thread (a batch runs one per job); an OpenCV worker pool
   // beside them only competes for the same cores (about 5 % of a camera run's time).
   cv::setNumThreads(1);
@@ -31,4 +34,18 @@ int main(int argc, char** argv) {
     return *status;
   }
   return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Whatever escapes (a failed allocation, a library error): said in one line, never an abort.
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "coxswain-sim: fatal: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "coxswain-sim: fatal: unknown exception\n";
+  }
+  return 1;
 }
