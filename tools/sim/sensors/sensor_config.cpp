@@ -179,6 +179,9 @@ void apply_conditions(const world::SensorConditions& c, SensorConfig& config) {
     g.bias_max_m = std::max(g.bias_max_m, g.bias_mean_m + 2.0 * g.bias_wander_sigma_m);
   }
   CameraSimConfig& k = config.camera;
+  if (c.camera_venue) {
+    if (const std::optional<Venue> v = parse_venue(*c.camera_venue)) k.venue = *v;
+  }
   if (c.camera_glare) k.glare = *c.camera_glare;
   if (c.camera_glare_gain) k.glare_gain = *c.camera_glare_gain;
   if (c.camera_glare_saturation_loss) k.glare_saturation_loss = *c.camera_glare_saturation_loss;

@@ -117,6 +117,15 @@ void read_conditions(MapReader& m, SensorConditions& c) {
     g->finish();
   }
   if (auto k = m.map("camera")) {
+    if (k->has("venue")) {
+      // The camera's venue presets (sim/sensors/camera_sim.hpp; a test checks that each of these
+      // names one).
+      c.camera_venue = std::string(k->get_enum<std::string_view>("venue", "pool",
+                                                                 {{"pool", "pool"},
+                                                                  {"harbour", "harbour"},
+                                                                  {"overcast", "overcast"},
+                                                                  {"low_sun", "low_sun"}}));
+    }
     if (k->has("glare")) c.camera_glare = k->get<bool>("glare", false);
     opt(*k, "glare_gain", {0.1, 10.0}, c.camera_glare_gain);
     opt(*k, "glare_saturation_loss", {0.0, 1.0}, c.camera_glare_saturation_loss);
@@ -155,8 +164,12 @@ void write_conditions(std::ostream& o, const SensorConditions& c) {
   o << (first ? "{}" : "}") << "\n";
   first = true;
   o << "  camera: ";
+  if (c.camera_venue) {
+    o << "{venue: " << *c.camera_venue;
+    first = false;
+  }
   if (c.camera_glare) {
-    o << "{glare: " << (*c.camera_glare ? "true" : "false");
+    o << (first ? "{" : ", ") << "glare: " << (*c.camera_glare ? "true" : "false");
     first = false;
   }
   item(first, "glare_gain", c.camera_glare_gain);

@@ -89,7 +89,9 @@ struct SensorConditions {
   std::optional<double> gnss_bias_tau_s;
   std::optional<double> gnss_bias_max_m;
   std::optional<double> gnss_noise_sigma_m;
-  // Camera: sun glare / over-exposure, blur and pixel noise.
+  // Camera: the venue's look (the sensors' camera.venue names: pool, harbour, overcast, low_sun),
+  // sun glare / over-exposure, blur and pixel noise.
+  std::optional<std::string> camera_venue;
   std::optional<bool> camera_glare;
   std::optional<double> camera_glare_gain;
   std::optional<double> camera_glare_saturation_loss;
@@ -101,10 +103,10 @@ struct SensorConditions {
 
   [[nodiscard]] bool any() const {
     return gnss_bias_mean_m || gnss_bias_direction_deg || gnss_bias_wander_sigma_m ||
-           gnss_bias_tau_s || gnss_bias_max_m || gnss_noise_sigma_m || camera_glare ||
-           camera_glare_gain || camera_glare_saturation_loss || camera_sun_bearing_deg ||
-           camera_sun_elevation_deg || camera_sun_blob_radius_px || camera_blur_kernel_px ||
-           camera_noise_sigma;
+           gnss_bias_tau_s || gnss_bias_max_m || gnss_noise_sigma_m || camera_venue ||
+           camera_glare || camera_glare_gain || camera_glare_saturation_loss ||
+           camera_sun_bearing_deg || camera_sun_elevation_deg || camera_sun_blob_radius_px ||
+           camera_blur_kernel_px || camera_noise_sigma;
   }
 };
 

@@ -88,7 +88,9 @@ TEST(SensorConditions, ACourseFilesValuesWinAndTheOthersAreLeftAlone) {
   k.gnss_bias_mean_m = 8.0;
   k.camera_glare = true;
   k.camera_sun_bearing_deg = 270.0;
+  k.camera_venue = "harbour";
   apply_conditions(k, c);
+  EXPECT_EQ(c.camera.venue, Venue::kHarbour);
   EXPECT_DOUBLE_EQ(c.gnss.bias_mean_m, 8.0);
   EXPECT_DOUBLE_EQ(c.gnss.bias_direction_deg, 40.0);  // not given by the course: kept
   // A course bias is not clamped by another source's cap.
@@ -99,6 +101,18 @@ TEST(SensorConditions, ACourseFilesValuesWinAndTheOthersAreLeftAlone) {
   k.gnss_bias_max_m = 9.0;
   apply_conditions(k, c);
   EXPECT_DOUBLE_EQ(c.gnss.bias_max_m, 9.0);
+}
+
+// A course file names the venue by the camera's own names: every one of them is a preset.
+TEST(SensorConditions, EveryVenueACourseFileMayNameIsACameraPreset) {
+  for (const char* name : {"pool", "harbour", "overcast", "low_sun"}) {
+    ASSERT_TRUE(parse_venue(name).has_value()) << name;
+    SensorConfig c;
+    world::SensorConditions k;
+    k.camera_venue = name;
+    apply_conditions(k, c);
+    EXPECT_EQ(venue_name(c.camera.venue), name);
+  }
 }
 
 }  // namespace

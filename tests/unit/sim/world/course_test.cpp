@@ -199,13 +199,13 @@ TEST(CourseLoader, EnvironmentAndDynamicsSectionsAreRead) {
 
 TEST(CourseLoader, SensorConditionsAreReadAndRoundTrip) {
   config::ConfigErrors errors;
-  const Course c =
-      load_text(std::string(kMinimal) +
-                    "conditions:\n"
-                    "  gnss: {bias_mean_m: 7.5, bias_direction_deg: 200, "
-                    "bias_wander_sigma_m: 2, bias_tau_s: 120}\n"
-                    "  camera: {glare: true, sun_bearing_deg: 90, blur_kernel_px: 5}\n",
-                errors);
+  const Course c = load_text(std::string(kMinimal) +
+                                 "conditions:\n"
+                                 "  gnss: {bias_mean_m: 7.5, bias_direction_deg: 200, "
+                                 "bias_wander_sigma_m: 2, bias_tau_s: 120}\n"
+                                 "  camera: {venue: harbour, glare: true, sun_bearing_deg: 90, "
+                                 "blur_kernel_px: 5}\n",
+                             errors);
   ASSERT_TRUE(errors.empty()) << errors.format();
   const SensorConditions& k = c.world.conditions;
   EXPECT_DOUBLE_EQ(*k.gnss_bias_mean_m, 7.5);
@@ -213,6 +213,7 @@ TEST(CourseLoader, SensorConditionsAreReadAndRoundTrip) {
   EXPECT_DOUBLE_EQ(*k.gnss_bias_wander_sigma_m, 2.0);
   EXPECT_DOUBLE_EQ(*k.gnss_bias_tau_s, 120.0);
   EXPECT_FALSE(k.gnss_bias_max_m);  // not given: left to the sensors' own
+  EXPECT_EQ(*k.camera_venue, "harbour");
   EXPECT_TRUE(*k.camera_glare);
   EXPECT_EQ(*k.camera_blur_kernel_px, 5);
   EXPECT_FALSE(k.camera_noise_sigma);
@@ -221,6 +222,7 @@ TEST(CourseLoader, SensorConditionsAreReadAndRoundTrip) {
   ASSERT_TRUE(again.empty()) << again.format() << to_course_yaml(c);
   EXPECT_EQ(to_course_yaml(back), to_course_yaml(c));
   EXPECT_DOUBLE_EQ(*back.world.conditions.gnss_bias_mean_m, 7.5);
+  EXPECT_EQ(*back.world.conditions.camera_venue, "harbour");
   EXPECT_FALSE(back.world.conditions.gnss_bias_max_m);
 }
 
@@ -228,8 +230,9 @@ TEST(CourseLoader, BadSensorConditionsAreRejected) {
   config::ConfigErrors errors;
   (void)load_text(std::string(kMinimal) +
                       "conditions:\n  gnss: {bias_mean_m: 9, bias_max_m: 5, foo: 1}\n"
-                      "  camera: {blur_kernel_px: 4}\n",
+                      "  camera: {blur_kernel_px: 4, venue: lake}\n",
                   errors);
+  EXPECT_TRUE(has_issue(errors, "venue", "")) << errors.format();
   EXPECT_TRUE(has_issue(errors, "bias_mean_m", "bias_max_m"));
   EXPECT_TRUE(has_issue(errors, "foo", ""));
   EXPECT_TRUE(has_issue(errors, "blur_kernel_px", "odd"));
