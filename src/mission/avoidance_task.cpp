@@ -92,6 +92,7 @@ class AvoidanceTask final : public AvoidingTask {
     const bool moving_on = watch_progress(ctx);
     const core::NavPoint goal = steering_goal(ctx);
     core::NavPoint aim = goal;
+    bool planned_aim = false;
     double sight = 1.0;
     // The last metres through a gate are the avoidance's: the inflated buoys leave the planner
     // a passage only a cell or two wide.
@@ -104,13 +105,25 @@ class AvoidanceTask final : public AvoidingTask {
         return recover(ctx, out);
       }
       if (!off_map_) {
-        if (const auto sg = ctx.planner->subgoal(ctx.antenna)) aim = *sg;
+        if (const auto sg = ctx.planner->subgoal(ctx.antenna)) {
+          aim = *sg;
+          planned_aim = true;
+        }
         sight = sight_factor(ctx);
       }
     }
     if (!moving_on) return unstick(ctx, aim, out);
     fill_viz(ctx, goal);
-    steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    const double turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    // The avoidance turned far from the sub-goal: round a corner of the path it would take the
+    // free heading nearest the sub-goal's bearing, which may lead into the pocket the path goes
+    // round. The path's nearer point in plain sight says which way round.
+    if (planned_aim && std::abs(turned_deg) > kDivergeDeg) {
+      if (const auto near = ctx.planner->subgoal(ctx.antenna, kNearSubgoalM);
+          near && core::distance_m(*near, aim) > 0.25) {
+        steer(ctx, core::bearing_deg(ctx.antenna, *near), out);
+      }
+    }
     out.speed_factor *= sight;
     return TaskResult::kRunning;
   }
@@ -149,7 +162,9 @@ class AvoidanceTask final : public AvoidingTask {
     return TaskResult::kRunning;
   }
 
-  void steer(const TaskContext& ctx, double desired_deg, GuidanceRequest& out) {
+  /// Steers toward `desired_deg` round what the lidar sees; returns how far (deg) the avoidance
+  /// turned from it.
+  double steer(const TaskContext& ctx, double desired_deg, GuidanceRequest& out) {
     const double goal_body = core::angle_diff_deg(desired_deg, ctx.pose.heading_deg);
     const guidance::AvoidanceDecision d = avoidance_->decide(*ctx.obstacles, goal_body, ctx.now_ns);
     VizFrame& v = *ctx.viz;
@@ -164,7 +179,10 @@ class AvoidanceTask final : public AvoidingTask {
     out.desired_heading_deg = core::wrap_deg(ctx.pose.heading_deg + d.bearing_body_deg);
     out.thrust_frac = cruise_;
     out.speed_factor = d.speed_factor;
+    return core::angle_diff_deg(d.bearing_body_deg, goal_body);
   }
+  static constexpr double kDivergeDeg = 45.0;
+  static constexpr double kNearSubgoalM = 1.0;
   static constexpr double kBuoyIsolationM = 0.8;
   static constexpr double kGateMouthM = 3.0;
   static constexpr double kGateLookaheadM = 4.0;

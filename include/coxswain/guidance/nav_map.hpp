@@ -208,7 +208,9 @@ class MapPlanner {
 
   /// Inflates the map and plans from `start` to `goal` (a goal off the map is taken to where the
   /// line to it leaves the map; a blocked one moves to the nearest free cell within
-  /// goal_search_m).
+  /// goal_search_m). A start on an obstacle cell (a hull on a wall, its position a little
+  /// inside it) plans from the last start that was not, when that is near: the boat leaves a
+  /// wall on the side it came from, never through it.
   PlanStatus plan(const NavMap& map, core::NavPoint start, core::NavPoint goal);
   [[nodiscard]] PlanStatus status() const { return status_; }
   /// The last successful plan's path (empty after a failure).
@@ -220,7 +222,12 @@ class MapPlanner {
                                     double limit_m) const;
   /// The farthest point of the path, at most `lookahead_m` along it past the point of it nearest
   /// `position`, that the boat reaches on a clear straight line (so never round a corner).
-  [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position) const;
+  [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position) const {
+    return subgoal(position, params_.line_of_sight_min_m);
+  }
+  /// As above, coming nearer down to `nearest_m` along the path for a clear straight line.
+  [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position,
+                                                      double nearest_m) const;
   [[nodiscard]] GridView view() const;
   [[nodiscard]] const MapPlannerParams& params() const { return params_; }
 
@@ -267,6 +274,8 @@ class MapPlanner {
   AStarPlanner astar_;
   std::vector<core::NavPoint> path_;  // capacity reserved once: assignments never allocate
   PlanStatus status_ = PlanStatus::kNoPath;
+  // The last start that lay off every obstacle cell (see plan).
+  std::optional<core::NavPoint> last_clear_start_;
 };
 
 }  // namespace coxswain::guidance

@@ -548,6 +548,20 @@ void MapPlanner::inflate(const NavMap& map) {
 PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPoint goal) {
   inflate(map);
   const GridView v = view();
+  // On an obstacle cell every way out is as shallow as the next, so A* would leave through
+  // the far side of a thin wall as readily as the near one. Farther than this from the last
+  // clear start, that start says nothing about the side the boat is on.
+  constexpr double kClearStartReachM = 2.0;
+  if (const auto sc = v.cell_of(start); sc && v.at(*sc) == CellState::kOccupied) {
+    if (last_clear_start_ && core::distance_m(*last_clear_start_, start) <= kClearStartReachM) {
+      if (const auto lc = v.cell_of(*last_clear_start_);
+          lc && v.at(*lc) != CellState::kOccupied) {
+        start = *last_clear_start_;
+      }
+    }
+  } else if (sc) {
+    last_clear_start_ = start;
+  }
   core::NavPoint g = goal;
   if (!v.cell_of(g) && v.cell_of(start)) {
     // Off the map: aim where the straight line to it leaves the map (bisection, 1 cm).
@@ -662,7 +676,8 @@ double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, doub
   return limit_m;
 }
 
-std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const {
+std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position,
+                                                  double nearest_m) const {
   const std::vector<core::NavPoint>& p = path_;
   if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
   if (p.size() == 1) return p.front();
@@ -686,7 +701,7 @@ std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position) const
   // The farthest point within the look-ahead the boat can steer straight at: a sub-goal round
   // a corner would have the boat cut it.
   const double step = resolution_m_;
-  const double nearest_m = std::min(params_.line_of_sight_min_m, params_.lookahead_m);
+  nearest_m = std::min(nearest_m, params_.lookahead_m);
   for (double ahead = params_.lookahead_m; ahead > nearest_m; ahead -= step) {
     const core::NavPoint q = along(ahead);
     if (line_clear(position, q)) return q;

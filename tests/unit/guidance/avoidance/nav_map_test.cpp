@@ -332,6 +332,51 @@ TEST(MapPlanner, TheSubGoalIsReachedInAStraightLineNeverRoundACorner) {
     EXPECT_NE(planner.view().at(*c), CellState::kOccupied) << q.north_m << ", " << q.east_m;
   }
   EXPECT_LT(sg->east_m, -3.0);  // toward the gap
+  // The same plan with the look-ahead alone (no line of sight) aims past the corner; asked for
+  // a sub-goal in plain sight, it comes back to the near side.
+  MapPlannerParams plain = params;
+  plain.line_of_sight_min_m = plain.lookahead_m;
+  MapPlanner ahead(m, plain, 0.45);
+  ASSERT_EQ(ahead.plan(m, pose.position, {12.0, 0.0}), PlanStatus::kOk);
+  const auto far_sg = ahead.subgoal(pose.position);
+  const auto near_sg = ahead.subgoal(pose.position, 0.25);
+  ASSERT_TRUE(far_sg && near_sg);
+  EXPECT_GT(far_sg->north_m, 6.0);  // beyond the wall's line: round the corner
+  EXPECT_LT(near_sg->north_m, 6.0);
+  EXPECT_NEAR(near_sg->north_m, sg->north_m, 1e-9);
+  EXPECT_NEAR(near_sg->east_m, sg->east_m, 1e-9);
+}
+
+TEST(MapPlanner, AStartOnAWallLeavesItOnTheSideTheBoatCameFrom) {
+  // A thin wall across the way, open round its west end. A boat whose position lies on the
+  // wall (its bow against it, the estimate a little inside) must back off on its own side and
+  // go round, never plan straight through to the goal beyond.
+  NavMap m(small_map(), {}, {});
+  const std::vector<std::pair<NavPoint, NavPoint>> wall{{{6.0, -3.0}, {6.0, 12.0}}};
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  m.add_scan(scan_of(pose, wall), pose, kHull);
+  const NavPoint goal{12.0, 0.0};
+  const NavPoint on_wall{6.05, 0.0};
+  {
+    const auto c = m.cell_of(on_wall);
+    ASSERT_TRUE(c && m.occupied(m.index(*c)));
+  }
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  // Approaching from the south: every start off the wall is remembered.
+  ASSERT_EQ(planner.plan(m, {4.5, 0.0}, goal), PlanStatus::kOk);
+  ASSERT_EQ(planner.plan(m, on_wall, goal), PlanStatus::kOk);
+  const auto& path = planner.path();
+  ASSERT_GE(path.size(), 3U);
+  EXPECT_LT(path.front().north_m, 6.0);
+  EXPECT_LT(path[1].north_m, 6.0);
+  double westmost = 0.0;
+  for (const NavPoint& q : path) westmost = std::min(westmost, q.east_m);
+  EXPECT_LT(westmost, -3.0);  // round the wall's end
+  // A start far from the last clear one says nothing about the side: the old rule (any way out).
+  MapPlanner fresh(m, MapPlannerParams{}, 0.45);
+  ASSERT_EQ(fresh.plan(m, {-8.0, 8.0}, goal), PlanStatus::kOk);
+  ASSERT_EQ(fresh.plan(m, on_wall, goal), PlanStatus::kOk);
+  EXPECT_GT(fresh.path()[1].north_m, 6.0);  // through, since nothing says which side
 }
 
 TEST(MapPlanner, SeenAheadMeasuresThePathThroughWaterTheLidarHasSeen) {
