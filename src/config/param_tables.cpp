@@ -789,6 +789,10 @@ constexpr std::array kPlanning{
     bool_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::no_return_clears>(
         "map.no_return_clears", kFixed,
         "a beam with no return clears its whole length (open water reflects nothing)"),
+    real_param<PlanningConfig, &PlanningConfig::map, &NavMapParams::no_return_near_m>(
+        "map.no_return_near_m", "m", 0.0, 5.0, kFixed,
+        "a scan with a return nearer than this clears nothing along its beams without one (a "
+        "wall inside the scanner's least range returns nothing too); 0: always clears"),
     bool_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::enabled>(
         "planner.enabled", kFixed,
         "plan a global path on the map; the reactive avoidance steers to its sub-goal"),

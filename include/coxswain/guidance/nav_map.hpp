@@ -40,6 +40,10 @@ struct NavMapParams {
   // A beam with no return (open water reflects nothing back) clears its whole length; off, only
   // beams that end on something clear, and open water stays unseen.
   bool no_return_clears = true;
+  // ...except in a scan with a return nearer than this: a wall nearer than the scanner's own
+  // least range gives no return either, and a hull against a wall would clear the water behind
+  // it. 0: never held back.
+  double no_return_near_m = 0.6;
 
   static constexpr std::size_t kMaxCells = 1U << 20;
   [[nodiscard]] std::optional<std::string> validate() const;

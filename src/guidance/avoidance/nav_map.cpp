@@ -35,6 +35,9 @@ std::optional<std::string> NavMapParams::validate() const {
   if (!finite_pos(max_range_m) || !finite_nonneg(min_range_m) || min_range_m >= max_range_m) {
     return "map: 0 <= min_range_m < max_range_m";
   }
+  if (!finite_nonneg(no_return_near_m) || no_return_near_m > 5.0) {
+    return "map: no_return_near_m in [0, 5]";
+  }
   return {};
 }
 
@@ -297,11 +300,21 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
   float* ranges = range_levels_.data();
   std::fill(ranges, ranges + kBins, -1.0F);  // -1: no beam in this bin
   bool any = false;
+  // Whether this scan's beams without a return may clear: not when anything outside the hull
+  // is so near that a wall may stand within the scanner's least range.
+  bool no_return_clears = params_.no_return_clears;
+  for (std::uint32_t i = 0; i < n && no_return_clears; ++i) {
+    const msg::LidarPoint& p = scan.points[i];
+    const auto range = static_cast<double>(p.range_m);
+    if (!(range > 0.0) || !(range < params_.no_return_near_m)) continue;
+    const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
+    no_return_clears = hull.contains(range * std::cos(b), range * std::sin(b));
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     const msg::LidarPoint& p = scan.points[i];
     const bool no_return = p.range_m == 0.0F;
     const double range = no_return ? max_range + 1.0 : static_cast<double>(p.range_m);
-    if (no_return && !params_.no_return_clears) continue;
+    if (no_return && !no_return_clears) continue;
     if (!(range > params_.min_range_m) || !std::isfinite(range)) continue;
     const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
     const double cb = std::cos(b);

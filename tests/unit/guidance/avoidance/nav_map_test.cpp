@@ -195,6 +195,37 @@ TEST(NavMap, ABeamWithNoReturnClearsItsWholeLengthUnlessToldNotTo) {
   EXPECT_EQ(strict.log_odds(strict.index(*c)), 0.0F);
 }
 
+// A wall nearer than the scanner's least range (0.2 m) gives no return on the beams that meet it
+// square; the beams that meet it at a slant still return, very near.
+msg::LidarScan scan_against_wall(const core::NavPose& pose,
+                                 const std::vector<std::pair<NavPoint, NavPoint>>& walls) {
+  msg::LidarScan scan = scan_of(pose, walls);
+  for (std::uint32_t i = 0; i < scan.point_count; ++i) {
+    if (scan.points[i].range_m < 0.2F) scan.points[i].range_m = 0.0F;
+  }
+  return scan;
+}
+
+TEST(NavMap, AHullAgainstAWallDoesNotMarkTheWaterBehindItAsSeen) {
+  const std::vector<std::pair<NavPoint, NavPoint>> wall{{{6.0, -8.0}, {6.0, 8.0}}};
+  // Log-odds of a cell 1 m behind the wall after the boat has lain against it.
+  const auto behind = [&](const NavMapParams& params) {
+    NavMap m(params, {}, {});
+    const core::NavPose far_pose{{0.0, 0.0}, 0.0};
+    for (int i = 0; i < 3; ++i) m.add_scan(scan_of(far_pose, wall), far_pose, kHull);
+    // The bow against the wall: 0.12 m short of it.
+    const core::NavPose against{{5.88, 0.0}, 0.0};
+    for (int i = 0; i < 20; ++i) m.add_scan(scan_against_wall(against, wall), against, kHull);
+    for (const double e : {-0.5, 0.0, 0.5}) EXPECT_TRUE(occupied_at(m, {6.0, e})) << e;
+    const auto c = m.cell_of({7.0, 0.0});
+    return m.log_odds(m.index(*c));
+  };
+  EXPECT_EQ(behind(small_map()), 0.0F);  // never seen: the wall hides it
+  NavMapParams unguarded = small_map();
+  unguarded.no_return_near_m = 0.0;
+  EXPECT_LT(behind(unguarded), 0.0F);  // the square beams' "no return" would clear it
+}
+
 // A dead end open toward the boat: the goal lies straight on behind its back wall.
 std::vector<std::pair<NavPoint, NavPoint>> u_walls() {
   return {{{10.0, -3.0}, {10.0, 3.0}}, {{5.0, -3.0}, {10.0, -3.0}}, {{5.0, 3.0}, {10.0, 3.0}}};
