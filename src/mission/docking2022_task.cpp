@@ -78,6 +78,16 @@ class Docking2022Task final : public AvoidingTask {
       centre.east_m += slips_[i].east_m / static_cast<double>(slip_count_);
     }
     survey_ = along(centre, dock_heading_deg_, -d_.survey_distance_m);
+    // A slip's sides lie nearer its axis than half the way to the next slip's: so far the
+    // fingers are looked for beside a boat that stopped (at least finger_side_m).
+    double spacing_m = 0.0;  // between the nearest two slips
+    for (std::size_t i = 0; i + 1 < slip_count_; ++i) {
+      for (std::size_t j = i + 1; j < slip_count_; ++j) {
+        const double d = core::distance_m(slips_[i], slips_[j]);
+        if (spacing_m == 0.0 || d < spacing_m) spacing_m = d;
+      }
+    }
+    finger_side_m_ = std::max(d_.finger_side_m, 0.5 * spacing_m + kFingerSlackM);
     const double h = core::deg_to_rad(dock_heading_deg_);
     axis_ = {std::cos(h), std::sin(h)};
     side_ = {-std::sin(h), std::cos(h)};
@@ -349,6 +359,7 @@ class Docking2022Task final : public AvoidingTask {
     approach_.reset();
     slip_tracker_.reset();
     committed_ = false;
+    backing_since_ns_ = core::kNeverNs;
     marker_seen_ns_ = core::kNeverNs;
     if (!approach_.set_ray(decision_[i], slips_[i])) {
       set_reason(reason_printf("slip %zu: decision point equals the slip", i + 1));
@@ -404,6 +415,21 @@ class Docking2022Task final : public AvoidingTask {
   /// Ray pursuit into the slip from the camera-fixed pose; the stop is latched by the lidar
   /// range ahead, and the boat slows as that range falls so it does not coast into the back.
   TaskResult enter_step(const TaskContext& ctx, GuidanceRequest& out) {
+    if (backing_since_ns_ != core::kNeverNs) {
+      if (core::ns_to_sec(ctx.now_ns - backing_since_ns_) < kBackOffS) {
+        out.steer = true;
+        out.desired_heading_deg = ctx.pose.heading_deg;
+        out.thrust_frac = kBackOffThrustFrac;
+        out.speed_factor = -1.0;
+        return TaskResult::kRunning;
+      }
+      // Backed off: in again, the slip looked for afresh.
+      backing_since_ns_ = core::kNeverNs;
+      approach_.reset();
+      slip_tracker_.reset();
+      committed_ = false;
+      set_phase(slip_phase("enter_slip").view(), "backed off; entering again");
+    }
     std::optional<double> ahead;
     if (ctx.lidar_fresh && ctx.profile != nullptr) {
       ahead = guidance::min_range_ahead_m(*ctx.profile, d_.approach.ahead_half_angle_deg);
@@ -447,10 +473,29 @@ class Docking2022Task final : public AvoidingTask {
                                                                ctx.now_ns, kSlipLookaheadPerM);
     }
     if (c.stop) {
-      set_reason(reason_printf("docked in slip %zu (%.2f m ahead, camera fix %.2f m, %s)",
-                               slip_ + 1, ahead ? *ahead : -1.0, fix_m_,
-                               slip_tracker_.seen() ? "lidar mouth" : "map"));
-      return TaskResult::kDone;
+      // Something close ahead is the slip's back only with the slip's sides along the hull: a
+      // finger's end or a neighbouring dock's face stops the boat as well.
+      guidance::FingersAlongside f;
+      if (ctx.lidar_fresh && ctx.profile != nullptr) {
+        f = guidance::fingers_alongside(*ctx.profile, finger_side_m_, kFingerAftM,
+                                        avoidance_->params().bow_ahead_m);
+      }
+      if (f.both()) {
+        set_reason(reason_printf("docked in slip %zu (%.2f m ahead, fingers %.2f / %.2f m, "
+                                 "camera fix %.2f m, %s)",
+                                 slip_ + 1, ahead ? *ahead : -1.0, f.port_m, f.starboard_m, fix_m_,
+                                 slip_tracker_.seen() ? "lidar mouth" : "map"));
+        return TaskResult::kDone;
+      }
+      backing_since_ns_ = ctx.now_ns;
+      set_phase(slip_phase("back_off").view(),
+                reason_printf("stopped %.2f m short of something without a finger along each "
+                              "side (port %.2f m, starboard %.2f m): backing off",
+                              ahead ? *ahead : -1.0, f.port_m, f.starboard_m));
+      out.steer = true;
+      out.desired_heading_deg = ctx.pose.heading_deg;
+      out.thrust_frac = 0.0;
+      return TaskResult::kRunning;
     }
     out.steer = true;
     out.desired_heading_deg = c.desired_heading_deg;
@@ -502,6 +547,14 @@ class Docking2022Task final : public AvoidingTask {
   core::TimeNs marker_seen_ns_ = core::kNeverNs;
   Phase phase_ = Phase::kSurvey;
   core::TimeNs face_since_ns_ = core::kNeverNs;
+  core::TimeNs backing_since_ns_ = core::kNeverNs;  // backing off a false stop
+  // The fingers are looked for abeam of the lidar and this far aft (half the hull's length, so
+  // half the hull is in the slip, as the judge counts); a false stop backs off this long.
+  static constexpr double kFingerAftM = 0.6;
+  static constexpr double kBackOffS = 3.0;
+  static constexpr double kBackOffThrustFrac = 0.6;
+  static constexpr double kFingerSlackM = 0.2;  // beyond half the slips' spacing: the finger's width
+  double finger_side_m_ = 1.2;                   // see the constructor
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 // projection), or keep the marker on the image centre line (its body bearing at 0). Both stop
 // when the lidar range ahead falls under the stop distance (2026 plan: 0.3 m).
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -113,9 +114,11 @@ struct FingersAlongside {
   [[nodiscard]] bool both() const { return port_m >= 0.0 && starboard_m >= 0.0; }
 };
 
-[[nodiscard]] FingersAlongside fingers_alongside(const perception::RangeProfile& profile,
-                                                 double max_side_m, double aft_m,
-                                                 double max_skew_m = 0.3);
+/// Returns more than `bow_ahead_m` ahead of the lidar (the bow's tip) are ahead of the hull,
+/// never beside it: a slip's back a hand's breadth ahead is no finger.
+[[nodiscard]] FingersAlongside fingers_alongside(
+    const perception::RangeProfile& profile, double max_side_m, double aft_m,
+    double bow_ahead_m = std::numeric_limits<double>::infinity(), double max_skew_m = 0.3);
 
 /// Ray pursuit in the body frame: heading change (body bearing, + starboard) toward a point
 /// `lookahead_m` along the slip's axis beyond the boat's projection on it, so the boat lines up

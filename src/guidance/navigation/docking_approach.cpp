@@ -220,7 +220,7 @@ std::optional<SlipOpening> find_slip_toward(const perception::RangeProfile& prof
 }
 
 FingersAlongside fingers_alongside(const perception::RangeProfile& profile, double max_side_m,
-                                   double aft_m, double max_skew_m) {
+                                   double aft_m, double bow_ahead_m, double max_skew_m) {
   const std::size_t bins = std::min<std::size_t>(profile.bin_count, profile.closest_range_m.size());
   const double w = static_cast<double>(profile.bin_width_deg);
   FingersAlongside out;
@@ -239,6 +239,7 @@ FingersAlongside fingers_alongside(const perception::RangeProfile& profile, doub
     const double y = static_cast<double>(r) * std::sin(b);
     const std::size_t side = y < 0.0 ? 0 : 1;
     const double across = std::abs(y);
+    if (x > bow_ahead_m) continue;
     if (std::abs(x) <= kBandM) nearest[side][0] = std::min(nearest[side][0], across);
     if (std::abs(x + aft_m) <= kBandM) nearest[side][1] = std::min(nearest[side][1], across);
   }

@@ -1011,10 +1011,37 @@ TEST(MissionDocking2022, SurveyVotesNameTheTargetSlipAndTheBoatGoesStraightIn) {
   // In the slip, its back wall 0.25 m ahead stops the boat and ends the mission.
   rig->position = {3.0, 9.0};
   rig->run_for(0.2);
-  add_wall_ahead(rig->scan, 0.25, 1.0);
-  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
+  add_slip_around(rig->scan, 0.25, 0.8);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0)) << rig->log_text();
   EXPECT_TRUE(rig->logged("docked in slip 2"));
   EXPECT_TRUE(rig->neutral());
+}
+
+TEST(MissionDocking2022, StoppedWithoutTheSlipsSidesAlongTheHullItBacksOffAndGoesInAgain) {
+  const config::Configuration c = three_slips_config(3.0);
+  auto rig = survey_seeing_the_target_at_slip_2(c);
+  ASSERT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
+  // Past the decision point, something 0.25 m ahead with nothing along the sides: a finger's
+  // end or a dock's face at the mouth, not the slip's back. No dock is declared.
+  rig->position = {3.0, 8.0};
+  rig->run_for(0.2);
+  add_wall_ahead(rig->scan, 0.25, 1.0);
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/back_off2"; }, 1.0))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("without a finger along each side")) << rig->log_text();
+  EXPECT_FALSE(rig->out.status.finished);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.viz.thrust_command < 0.0; }, 3.0));
+  rig->scan.clear();
+  ASSERT_TRUE(rig->run_until([&] { return rig->path() == "docking/enter_slip2"; }, 5.0))
+      << rig->log_text();
+  EXPECT_TRUE(rig->logged("backed off; entering again")) << rig->log_text();
+  EXPECT_FALSE(rig->out.status.finished);
+  // In the slip this time: the back ahead, a finger along each side.
+  rig->position = {3.0, 9.0};
+  rig->run_for(0.2);
+  add_slip_around(rig->scan, 0.25, 0.8);
+  ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0)) << rig->log_text();
+  EXPECT_TRUE(rig->logged("docked in slip 2")) << rig->log_text();
 }
 
 TEST(MissionDocking2022, WithoutLineFollowingTheDocumentsVisitTheDecisionPointThenRayPursuit) {
@@ -1034,7 +1061,7 @@ TEST(MissionDocking2022, WithoutLineFollowingTheDocumentsVisitTheDecisionPointTh
   EXPECT_NEAR(rig->out.viz.desired_heading_deg, 90.0, 1.0);
   EXPECT_GT(rig->thrust_frac(), 0.0);
   // The dock wall 0.25 m ahead stops the boat and ends the mission.
-  add_wall_ahead(rig->scan, 0.25, 1.0);
+  add_slip_around(rig->scan, 0.25, 0.8);
   ASSERT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0));
   EXPECT_TRUE(rig->logged("docked in slip 2"));
   EXPECT_TRUE(rig->neutral());
@@ -1140,7 +1167,7 @@ std::string dock_after_far_sightings(double fix_max_range_m) {
   EXPECT_EQ(rig->path(), "docking/enter_slip2") << rig->log_text();
   rig->position = {3.0, 9.0};
   rig->run_for(0.2);
-  add_wall_ahead(rig->scan, 0.25, 1.0);
+  add_slip_around(rig->scan, 0.25, 0.8);
   EXPECT_TRUE(rig->run_until([&] { return rig->out.status.finished; }, 1.0)) << rig->log_text();
   return rig->log_text();
 }

@@ -71,6 +71,24 @@ inline void add_wall_ahead(msg::LidarScan& scan, double forward_m, double half_w
   }
 }
 
+/// A slip round the bow: its back wall `back_m` ahead and its sides `half_width_m` either side of
+/// the centre line, from the back to 2 m astern (one return per half degree, the nearest).
+inline void add_slip_around(msg::LidarScan& scan, double back_m, double half_width_m) {
+  for (int i = 0; i < 720; ++i) {
+    const double b = -180.0 + 0.5 * i;
+    const double ux = std::cos(core::deg_to_rad(b));
+    const double uy = std::sin(core::deg_to_rad(b));
+    double r = 1e9;
+    if (ux > 0.0 && std::abs(back_m / ux * uy) <= half_width_m) r = back_m / ux;
+    if (std::abs(uy) > 1e-9) {
+      const double side = half_width_m / std::abs(uy);
+      const double x = side * ux;
+      if (x >= -2.0 && x <= back_m) r = std::min(r, side);
+    }
+    if (r < 1e8) (void)scan.push({static_cast<float>(b), static_cast<float>(r), 200, 0});
+  }
+}
+
 /// Drives a MissionCore in virtual time.
 class Rig {
  public:

@@ -543,6 +543,13 @@ TEST(DockingApproach, FingersAlongsideOnlyWhenTheBowIsBetweenTwoFingers) {
   EXPECT_FALSE(fingers_alongside(cast(corner), 1.2, 0.6).both());
   // Fingers farther than the limit are not alongside.
   EXPECT_FALSE(fingers_alongside(cast(slip_from(1.5, 0.2)), 0.9, 0.6).both());
+  // Stopped with the slip's back 0.2 m ahead: its returns lie in the band abeam of the lidar
+  // too, nearer the centre line than the fingers; ahead of the bow (0.1 m) they are no finger.
+  EXPECT_FALSE(fingers_alongside(cast(slip_from(1.8, 0.0)), 1.2, 0.6).both());
+  const FingersAlongside at_back = fingers_alongside(cast(slip_from(1.8, 0.0)), 1.2, 0.6, 0.1);
+  ASSERT_TRUE(at_back.both());
+  EXPECT_NEAR(at_back.port_m, 0.8, 0.05);
+  EXPECT_NEAR(at_back.starboard_m, 0.8, 0.05);
 }
 
 }  // namespace
