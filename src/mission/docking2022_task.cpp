@@ -481,10 +481,11 @@ class Docking2022Task final : public AvoidingTask {
                                         avoidance_->params().bow_ahead_m);
       }
       if (f.both()) {
-        set_reason(reason_printf("docked in slip %zu (%.2f m ahead, fingers %.2f / %.2f m, "
-                                 "camera fix %.2f m, %s)",
-                                 slip_ + 1, ahead ? *ahead : -1.0, f.port_m, f.starboard_m, fix_m_,
-                                 slip_tracker_.seen() ? "lidar mouth" : "map"));
+        set_reason(
+            reason_printf("docked in slip %zu (%.2f m ahead, fingers %.2f / %.2f m, "
+                          "camera fix %.2f m, %s)",
+                          slip_ + 1, ahead ? *ahead : -1.0, f.port_m, f.starboard_m, fix_m_,
+                          slip_tracker_.seen() ? "lidar mouth" : "map"));
         return TaskResult::kDone;
       }
       backing_since_ns_ = ctx.now_ns;
@@ -553,8 +554,9 @@ class Docking2022Task final : public AvoidingTask {
   static constexpr double kFingerAftM = 0.6;
   static constexpr double kBackOffS = 3.0;
   static constexpr double kBackOffThrustFrac = 0.6;
-  static constexpr double kFingerSlackM = 0.2;  // beyond half the slips' spacing: the finger's width
-  double finger_side_m_ = 1.2;                   // see the constructor
+  static constexpr double kFingerSlackM =
+      0.2;                      // beyond half the slips' spacing: the finger's width
+  double finger_side_m_ = 1.2;  // see the constructor
 };
 
 }  // namespace

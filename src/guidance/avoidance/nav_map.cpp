@@ -567,8 +567,7 @@ PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPo
   constexpr double kClearStartReachM = 2.0;
   if (const auto sc = v.cell_of(start); sc && v.at(*sc) == CellState::kOccupied) {
     if (last_clear_start_ && core::distance_m(*last_clear_start_, start) <= kClearStartReachM) {
-      if (const auto lc = v.cell_of(*last_clear_start_);
-          lc && v.at(*lc) != CellState::kOccupied) {
+      if (const auto lc = v.cell_of(*last_clear_start_); lc && v.at(*lc) != CellState::kOccupied) {
         start = *last_clear_start_;
       }
     }
@@ -689,8 +688,7 @@ double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, doub
   return limit_m;
 }
 
-std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position,
-                                                  double nearest_m) const {
+std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position, double nearest_m) const {
   const std::vector<core::NavPoint>& p = path_;
   if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
   if (p.size() == 1) return p.front();
