@@ -8,6 +8,11 @@ namespace coxswain::core {
 double wrap_deg(double angle_deg) {
   // Already in range (most calls): fmod would return it unchanged, exactly.
   if (angle_deg > -180.0 && angle_deg <= 180.0) return angle_deg;
+  // One turn out (sums of two wrapped angles): a single exact step (Sterbenz), the value fmod
+  // and the corrections below give.
+  if (angle_deg > 180.0 && angle_deg <= 540.0) return angle_deg - 360.0;
+  // (Not -360 itself: fmod gives -0 there, and the sign of a zero reaches atan2.)
+  if (angle_deg > -540.0 && angle_deg <= -180.0 && angle_deg != -360.0) return angle_deg + 360.0;
   if (!std::isfinite(angle_deg)) return angle_deg;
   double r = std::fmod(angle_deg, 360.0);  // (-360, 360)
   if (r <= -180.0) r += 360.0;
@@ -24,7 +29,12 @@ double wrap_rad(double angle_rad) {
 }
 
 double wrap_deg_360(double angle_deg) {
-  if (angle_deg >= 0.0 && angle_deg < 360.0) return angle_deg;  // as fmod would return it
+  if (angle_deg >= 0.0 && angle_deg < 360.0) return angle_deg;            // as fmod would return it
+  if (angle_deg >= 360.0 && angle_deg < 720.0) return angle_deg - 360.0;  // exact, as fmod's
+  if (angle_deg > -360.0 && angle_deg < 0.0) {  // (-360: fmod's -0, below)
+    const double r = angle_deg + 360.0;
+    return r >= 360.0 ? r - 360.0 : r;  // -1e-18 + 360 rounds to 360
+  }
   if (!std::isfinite(angle_deg)) return angle_deg;
   double r = std::fmod(angle_deg, 360.0);
   if (r < 0.0) r += 360.0;

@@ -159,6 +159,8 @@ class AStarPlanner {
   std::vector<std::uint32_t> parent_;
   std::vector<std::int32_t> heap_pos_;  // -1 not in heap, -2 closed
   std::vector<std::uint8_t> escaping_;  // reached from an inflated start through inflation only
+  std::vector<std::uint32_t> visit_;    // the plan that last touched each cell (see plan)
+  std::uint32_t generation_ = 0;
   std::vector<std::uint32_t> heap_;
   std::size_t heap_size_ = 0;
   std::vector<std::uint32_t> cells_;  // scratch: the path as cells, goal first

@@ -165,6 +165,9 @@ class NavMap {
  private:
   void set_log_odds(std::size_t k, float v);
   void build_sweep();
+  /// Cosine and sine of a body bearing from the table (false when it is not finite): one scan
+  /// has a thousand beams or more, and the library's sine and cosine were a third of a tick.
+  [[nodiscard]] bool unit_of(double bearing_deg, double& cos_out, double& sin_out) const;
   /// The shortest beam among the bins [lo, lo + span) of this scan's range table.
   [[nodiscard]] float shortest_beam(std::uint32_t lo, std::uint32_t span) const;
 
@@ -172,6 +175,8 @@ class NavMap {
   core::NavPoint origin_;
   std::uint32_t rows_ = 0;
   std::uint32_t cols_ = 0;
+  static constexpr int kTrigStepsPerDeg = 10;
+  std::vector<double> trig_;  // cos, sin pairs from -180 deg in 1 / kTrigStepsPerDeg steps
   std::vector<float> log_odds_;
   std::vector<std::uint8_t> known_;
   std::vector<std::uint32_t> hit_stamp_;  // scan number of the last hit in each cell

@@ -167,6 +167,7 @@ AStarPlanner::AStarPlanner(std::uint32_t rows, std::uint32_t cols)
       parent_(g_.size()),
       heap_pos_(g_.size()),
       escaping_(g_.size()),
+      visit_(g_.size(), 0U),
       heap_(g_.size()),
       cells_(g_.size()) {
   path_.reserve(g_.size() + 2);
@@ -239,13 +240,24 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
   if (!g_cell) return PlanStatus::kGoalOutside;
   if (grid.at(*g_cell) != CellState::kFree) return PlanStatus::kGoalBlocked;
 
-  std::fill(g_.begin(), g_.end(), kInfF);
-  std::fill(heap_pos_.begin(), heap_pos_.end(), kNotInHeap);
-  std::fill(escaping_.begin(), escaping_.end(), std::uint8_t{0});
+  // A cell's g, heap place and escape flag count only when it was touched in this plan: no pass
+  // over the whole grid per plan.
+  if (++generation_ == 0) {
+    std::fill(visit_.begin(), visit_.end(), 0U);
+    generation_ = 1;
+  }
+  const auto touch = [&](std::uint32_t k) {
+    if (visit_[k] == generation_) return;
+    visit_[k] = generation_;
+    g_[k] = kInfF;
+    heap_pos_[k] = kNotInHeap;
+    escaping_[k] = 0;
+  };
   heap_size_ = 0;
 
   const auto s = static_cast<std::uint32_t>(grid.index(*s_cell));
   const auto t = static_cast<std::uint32_t>(grid.index(*g_cell));
+  touch(s);
   g_[s] = 0.0F;
   h_[s] = octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
   f_[s] = h_[s];
@@ -288,6 +300,7 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
           continue;
         }
         const auto nb = nb_index(nr, nc);
+        touch(nb);
         if (heap_pos_[nb] == kClosed) continue;
         float step = dr != 0 && dc != 0 ? kSqrt2 : 1.0F;
         if (grid.cost != nullptr) {

@@ -172,6 +172,12 @@ NavMap::NavMap(const NavMapParams& params, std::span<const core::NavPoint> bound
   known_.assign(n, 0);
   hit_stamp_.assign(n, 0);
   build_sweep();
+  trig_.resize(2 * (360 * static_cast<std::size_t>(kTrigStepsPerDeg) + 1));
+  for (std::size_t i = 0; i < trig_.size() / 2; ++i) {
+    const double a = core::deg_to_rad(-180.0 + static_cast<double>(i) / kTrigStepsPerDeg);
+    trig_[2 * i] = std::cos(a);
+    trig_[2 * i + 1] = std::sin(a);
+  }
   occupied_list_.assign(n, 0);
   occupied_pos_.assign(n, -1);
   for (std::uint32_t r = 0; r < rows_; ++r) {
@@ -268,6 +274,24 @@ void NavMap::build_sweep() {
   range_levels_.assign(static_cast<std::size_t>(levels_) * 2 * kBins, 0.0F);
 }
 
+bool NavMap::unit_of(double bearing_deg, double& cos_out, double& sin_out) const {
+  if (!std::isfinite(bearing_deg)) return false;
+  if (!(bearing_deg >= -180.0 && bearing_deg < 180.0)) bearing_deg = core::wrap_deg(bearing_deg);
+  // The entry at or below the bearing, then the turn by the remainder d (< 1.8e-3 rad): to
+  // second order in cos and third in sin, the terms left out are below 4e-13.
+  auto i = static_cast<std::size_t>((bearing_deg + 180.0) * kTrigStepsPerDeg);
+  i = std::min(i, trig_.size() / 2 - 2);
+  const double d =
+      core::deg_to_rad(bearing_deg - (static_cast<double>(i) / kTrigStepsPerDeg - 180.0));
+  const double c0 = trig_[2 * i];
+  const double s0 = trig_[2 * i + 1];
+  const double cd = 1.0 - 0.5 * d * d;
+  const double sd = d - d * d * d / 6.0;
+  cos_out = c0 * cd - s0 * sd;
+  sin_out = s0 * cd + c0 * sd;
+  return true;
+}
+
 float NavMap::shortest_beam(std::uint32_t lo, std::uint32_t span) const {
   std::uint32_t level = 0;
   while ((2U << level) <= span) ++level;
@@ -307,20 +331,24 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     const msg::LidarPoint& p = scan.points[i];
     const auto range = static_cast<double>(p.range_m);
     if (!(range > 0.0) || !(range < params_.no_return_near_m)) continue;
-    const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
-    no_return_clears = hull.contains(range * std::cos(b), range * std::sin(b));
+    double cb = 0.0;
+    double sb = 0.0;
+    if (!unit_of(static_cast<double>(p.bearing_deg), cb, sb)) continue;
+    no_return_clears = hull.contains(range * cb, range * sb);
   }
+  const double ch = std::cos(h);
+  const double sh = std::sin(h);
   for (std::uint32_t i = 0; i < n; ++i) {
     const msg::LidarPoint& p = scan.points[i];
     const bool no_return = p.range_m == 0.0F;
     const double range = no_return ? max_range + 1.0 : static_cast<double>(p.range_m);
     if (no_return && !no_return_clears) continue;
     if (!(range > params_.min_range_m) || !std::isfinite(range)) continue;
-    const double b = core::deg_to_rad(static_cast<double>(p.bearing_deg));
-    const double cb = std::cos(b);
-    const double sb = std::sin(b);
+    double cb = 0.0;
+    double sb = 0.0;
+    if (!unit_of(static_cast<double>(p.bearing_deg), cb, sb)) continue;
     if (hull.contains(range * cb, range * sb)) continue;
-    const double a = h + b;
+    const double a = h + core::deg_to_rad(static_cast<double>(p.bearing_deg));
     const bool hit = range <= max_range;
     const auto reach = static_cast<float>(hit ? range : max_range);
     auto bin = static_cast<std::int64_t>(std::floor(a * bins_per_rad)) % kBins;
@@ -329,8 +357,11 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     slot = slot < 0.0F ? reach : std::min(slot, reach);
     any = true;
     if (!hit) continue;
-    const auto r1 = static_cast<int>(std::floor(fr0 + range * std::cos(a) / res));
-    const auto c1 = static_cast<int>(std::floor(fc0 + range * std::sin(a) / res));
+    // The beam's direction in the navigation frame: its body bearing turned by the heading.
+    const double ca = cb * ch - sb * sh;
+    const double sa = sb * ch + cb * sh;
+    const auto r1 = static_cast<int>(std::floor(fr0 + range * ca / res));
+    const auto c1 = static_cast<int>(std::floor(fc0 + range * sa / res));
     if (r1 < 0 || c1 < 0 || r1 >= static_cast<int>(rows_) || c1 >= static_cast<int>(cols_)) {
       continue;
     }
@@ -413,7 +444,9 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
   }
   // An obstacle may sit anywhere in its cell, so reach half a cell further than the radius.
   const double reach = (half_beam_m + params.clearance_m) / resolution_m_ + 0.5;
-  const double band = reach + params.soft_clearance_m / resolution_m_;
+  // Without a soft cost the band beyond the inflation says nothing: distances stop at it.
+  const double band =
+      reach + (params.clearance_cost > 0.0 ? params.soft_clearance_m / resolution_m_ : 0.0);
   band_dist2_ = static_cast<std::uint32_t>(std::floor(band * band));
   depth_by_dist2_.assign(band_dist2_ + 1, 0);
   cost_by_dist2_.assign(band_dist2_ + 1, 0);

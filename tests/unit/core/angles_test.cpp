@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace coxswain::core {
 namespace {
@@ -44,6 +45,40 @@ TEST(WrapDeg360, RangeIsZeroTo360) {
   EXPECT_DOUBLE_EQ(wrap_deg_360(-90.0), 270.0);
   EXPECT_DOUBLE_EQ(wrap_deg_360(360.0), 0.0);
   EXPECT_LT(wrap_deg_360(-1e-18), 360.0);
+}
+
+// The short cuts one turn out give exactly what the fmod route gives, the sign of zero
+// included (replays are compared bit for bit).
+double wrap_deg_by_fmod(double a) {
+  double r = std::fmod(a, 360.0);
+  if (r <= -180.0) r += 360.0;
+  if (r > 180.0) r -= 360.0;
+  return r;
+}
+double wrap_deg_360_by_fmod(double a) {
+  double r = std::fmod(a, 360.0);
+  if (r < 0.0) r += 360.0;
+  if (r >= 360.0) r -= 360.0;
+  return r;
+}
+
+TEST(WrapDeg, ShortCutsAgreeBitForBitWithFmod) {
+  std::vector<double> values{-720.0, -540.0, -360.0, -180.0, 0.0,    -0.0,    180.0,   360.0,
+                             540.0,  720.0,  -1e-18, 1e-18,  359.99, -359.99, 539.999, -539.999};
+  for (double base : {-720.0, -540.0, -360.0, -180.0, 0.0, 180.0, 360.0, 540.0, 720.0}) {
+    for (int k = -3; k <= 3; ++k) values.push_back(std::nextafter(base, base + k) + k * 1e-13);
+  }
+  for (int i = 0; i < 20000; ++i) values.push_back(-800.0 + 0.08 * i + 1e-7 * (i % 7));
+  for (double a : values) {
+    const double w = wrap_deg(a);
+    const double f = wrap_deg_by_fmod(a);
+    EXPECT_EQ(w, f) << a;
+    EXPECT_EQ(std::signbit(w), std::signbit(f)) << a;
+    const double w360 = wrap_deg_360(a);
+    const double f360 = wrap_deg_360_by_fmod(a);
+    EXPECT_EQ(w360, f360) << a;
+    EXPECT_EQ(std::signbit(w360), std::signbit(f360)) << a;
+  }
 }
 
 TEST(AngleDiff, ShortestSignedTurn) {

@@ -131,18 +131,22 @@ CollisionResponse::CollisionResponse(const World& world, const config::HullConfi
   for (const core::BodyPoint& p : outline_body_) {
     reach_m_ = std::max(reach_m_, std::hypot(p.forward_m, p.starboard_m));
   }
+  reach2_m2_ = reach_m_ * reach_m_ * (1.0 + 1e-9) + 1e-12;
 }
 
 int CollisionResponse::resolve(dynamics::BoatModel& model) const {
   int resolved = 0;
   for (int pass = 0; pass < params_.passes; ++pass) {
     bool any = false;
+    // The pose moves only when a contact is resolved: taken again then, not per obstacle.
+    core::NavPose pose = model.truth().pose;
     for (std::size_t i = 0; i < segments_.size() + circles_.size(); ++i) {
-      const core::NavPose pose = model.truth().pose;
       Penetration p;
       bool hit = false;
       if (i < segments_.size()) {
         const auto& [a, b] = segments_[i];
+        // Squared first (no square root for the far ones), a margin over the exact test's edge.
+        if (point_segment_distance2(pose.position, a, b) > reach2_m2_) continue;
         if (point_segment_distance(pose.position, a, b) > reach_m_) continue;
         std::array<NavPoint, 5> outline{};
         for (std::size_t k = 0; k < 5; ++k) outline[k] = core::body_to_nav(pose, outline_body_[k]);
@@ -156,6 +160,7 @@ int CollisionResponse::resolve(dynamics::BoatModel& model) const {
       }
       if (!hit) continue;
       (void)model.resolve_contact(p.normal, p.point, p.depth_m, params_.restitution);
+      pose = model.truth().pose;
       any = true;
       ++resolved;
     }

@@ -56,7 +56,8 @@ class CollisionResponse {
   std::vector<std::pair<core::NavPoint, core::NavPoint>> segments_;
   std::vector<std::pair<core::NavPoint, double>> circles_;
   std::array<core::BodyPoint, 5> outline_body_{};
-  double reach_m_ = 0.0;  // the hull's radius about the body origin (broad phase)
+  double reach_m_ = 0.0;    // the hull's radius about the body origin (broad phase)
+  double reach2_m2_ = 0.0;  // its square with a margin (the squared broad phase)
   CollisionParams params_;
 };
 

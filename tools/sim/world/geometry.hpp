@@ -31,6 +31,17 @@ inline core::NavPoint heading_unit(double heading_deg) {
 }
 
 /// Distance from p to the segment a-b.
+/// Squared distance from p to segment a-b.
+inline double point_segment_distance2(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
+  const core::NavPoint ab = sub(b, a);
+  const double len2 = dot(ab, ab);
+  double t = len2 > 0.0 ? dot(sub(p, a), ab) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  const core::NavPoint q = add(a, scale(ab, t));
+  const core::NavPoint d = sub(p, q);
+  return dot(d, d);
+}
+
 inline double point_segment_distance(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
   const core::NavPoint ab = sub(b, a);
   const double len2 = dot(ab, ab);
