@@ -5,11 +5,20 @@ find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 # Debian's four OpenCV module packages ship headers and libraries but no OpenCVConfig.cmake (that
 # comes with libopencv-dev, which pulls VTK and much more), so the modules are found one by one.
 find_path(COXSWAIN_OPENCV_INCLUDE_DIR opencv2/core.hpp PATH_SUFFIXES opencv4 REQUIRED)
+# coxswain_opencv_base: core and imgproc, all the daemon links. coxswain_opencv adds imgcodecs
+# and videoio (some 120 more shared libraries, ~48 MB resident): the image-I/O module, the
+# simulator and the tests link it; the daemon loads the module when it first needs it.
+add_library(coxswain_opencv_base INTERFACE)
+target_include_directories(coxswain_opencv_base SYSTEM INTERFACE ${COXSWAIN_OPENCV_INCLUDE_DIR})
 add_library(coxswain_opencv INTERFACE)
-target_include_directories(coxswain_opencv SYSTEM INTERFACE ${COXSWAIN_OPENCV_INCLUDE_DIR})
+target_link_libraries(coxswain_opencv INTERFACE coxswain_opencv_base)
 foreach(cv_module core imgproc imgcodecs videoio)
   find_library(COXSWAIN_OPENCV_${cv_module} opencv_${cv_module} REQUIRED)
-  target_link_libraries(coxswain_opencv INTERFACE ${COXSWAIN_OPENCV_${cv_module}})
+  if(cv_module STREQUAL "core" OR cv_module STREQUAL "imgproc")
+    target_link_libraries(coxswain_opencv_base INTERFACE ${COXSWAIN_OPENCV_${cv_module}})
+  else()
+    target_link_libraries(coxswain_opencv INTERFACE ${COXSWAIN_OPENCV_${cv_module}})
+  endif()
 endforeach()
 find_package(Boost 1.74 REQUIRED)
 find_package(spdlog REQUIRED)

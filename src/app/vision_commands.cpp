@@ -6,11 +6,11 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 
 #include "coxswain/app/vision_eval.hpp"
 #include "coxswain/config/vision_config.hpp"
+#include "coxswain/drivers/camera/image_io.hpp"
 #include "coxswain/perception/camera_pipeline.hpp"
 
 namespace coxswain::app {
@@ -68,9 +68,11 @@ std::optional<EvalTally> evaluate(const std::vector<LabelledFrame>& frames,
   EvalTally tally;
   core::TimeNs stamp_ns = 0;
   for (const LabelledFrame& f : frames) {
-    const cv::Mat img = cv::imread((dir / f.file).string(), cv::IMREAD_COLOR);
+    std::string why;
+    const cv::Mat img = drivers::camera::read_image((dir / f.file).string(), &why);
     if (img.empty()) {
-      std::cerr << "vision: cannot read image " << (dir / f.file).string() << "\n";
+      std::cerr << "vision: cannot read image " << (dir / f.file).string()
+                << (why.empty() ? "" : ": " + why) << "\n";
       return std::nullopt;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -109,9 +111,11 @@ int run_calibrate(const VisionOptions& o) {
   if (!frames || !base) return 2;
   CalibrationSamples samples;
   for (const LabelledFrame& f : *frames) {
-    const cv::Mat img = cv::imread((fs::path(o.dir) / f.file).string(), cv::IMREAD_COLOR);
+    std::string why;
+    const cv::Mat img = drivers::camera::read_image((fs::path(o.dir) / f.file).string(), &why);
     if (img.empty()) {
-      std::cerr << "vision: cannot read image " << (fs::path(o.dir) / f.file).string() << "\n";
+      std::cerr << "vision: cannot read image " << (fs::path(o.dir) / f.file).string()
+                << (why.empty() ? "" : ": " + why) << "\n";
       return 2;
     }
     add_calibration_samples(img, f, samples);

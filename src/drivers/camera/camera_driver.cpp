@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
-#include <opencv2/imgcodecs.hpp>
 #include <string_view>
 
 namespace coxswain::drivers::camera {
@@ -87,11 +86,6 @@ void CameraDriver::start() {
     const std::lock_guard<std::mutex> lock(mutex_);
     stop_requested_ = false;
   }
-  // OpenCV builds its codec registry (and registers GDAL's drivers, tens of ms) on first use.
-  // Doing it here, before the thread exists, keeps that out of the first frame's latency and lets
-  // ThreadSanitizer see the registry complete before the thread reads it (the function-local
-  // static's guard lives in uninstrumented OpenCV code, so TSan cannot see its synchronisation).
-  (void)cv::haveImageWriter(".bmp");  // looks at the extension only, opens no file
   thread_ = std::thread([this] { run(); });
 }
 

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/drivers/camera/frame_source.hpp"
 
+#include "coxswain/drivers/camera/image_io.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/videoio.hpp>
+#include <opencv2/videoio.hpp>  // the property and backend numbers only: capture is the module's
 #include <sstream>
 #include <system_error>
 #include <utility>
@@ -58,16 +59,17 @@ class V4l2Source final : public FrameSource {
       : path_(std::move(path)), config_(config) {}
 
   bool open(std::string& detail) override {
-    if (all_digits(path_)) {
-      cap_.open(std::stoi(path_), cv::CAP_V4L2);
-    } else {
-      if (!path_exists(path_)) {
-        detail = "no such device " + path_;
-        return false;
-      }
-      cap_.open(path_, cv::CAP_V4L2);
+    if (!all_digits(path_) && !path_exists(path_)) {
+      detail = "no such device " + path_;
+      return false;
     }
-    if (!cap_.isOpened()) {
+    if (!cap_ && !(cap_ = make_capture(detail))) return false;
+    if (all_digits(path_)) {
+      (void)cap_->open_index(std::stoi(path_), cv::CAP_V4L2);
+    } else {
+      (void)cap_->open_path(path_, cv::CAP_V4L2);
+    }
+    if (!cap_->is_opened()) {
       detail = "cannot open " + path_ + " as a V4L2 camera";
       return false;
     }
@@ -79,13 +81,13 @@ class V4l2Source final : public FrameSource {
 
   ReadResult read(cv::Mat& bgr, const core::Clock& clock) override {
     ReadResult r;
-    if (!cap_.grab()) {
+    if (!cap_ || !cap_->grab()) {
       // An unplugged camera fails its grabs and its node disappears.
       r.status = all_digits(path_) || path_exists(path_) ? ReadStatus::kFailed : ReadStatus::kLost;
       return r;
     }
     r.stamp_ns = clock.now_ns();  // the grab returned: this frame was just captured
-    if (!cap_.retrieve(bgr) || bgr.empty() || bgr.type() != CV_8UC3) {
+    if (!cap_->retrieve(bgr) || bgr.empty() || bgr.type() != CV_8UC3) {
       r.status = ReadStatus::kFailed;
       return r;
     }
@@ -112,16 +114,16 @@ class V4l2Source final : public FrameSource {
         {"brightness", {cv::CAP_PROP_BRIGHTNESS, config_.brightness}},
     }};
     // One buffered frame: detections should describe the newest image, not one queued behind.
-    (void)cap_.set(cv::CAP_PROP_BUFFERSIZE, 1.0);
+    (void)cap_->set(cv::CAP_PROP_BUFFERSIZE, 1.0);
     for (const auto& [name, prop] : wanted) {
       // Exposure is only settable (and meaningful) in manual mode.
       if (prop.first == cv::CAP_PROP_EXPOSURE && config_.auto_exposure) continue;
-      (void)cap_.set(prop.first, prop.second);
+      (void)cap_->set(prop.first, prop.second);
     }
     std::ostringstream diff;
     for (const auto& [name, prop] : wanted) {
       if (prop.first == cv::CAP_PROP_EXPOSURE && config_.auto_exposure) continue;
-      const double got = cap_.get(prop.first);
+      const double got = cap_->get(prop.first);
       if (std::abs(got - prop.second) > 0.5) {
         if (diff.tellp() > 0) diff << ", ";
         diff << name << " " << prop.second << " -> " << got;
@@ -132,7 +134,7 @@ class V4l2Source final : public FrameSource {
 
   std::string path_;
   config::CameraDeviceConfig config_;
-  cv::VideoCapture cap_;
+  std::unique_ptr<Capture> cap_;
   std::string report_;
 };
 
@@ -146,7 +148,8 @@ class VideoFileSource final : public FrameSource {
       detail = "no such file " + path_;
       return false;
     }
-    if (!cap_.open(path_, cv::CAP_ANY) || !cap_.isOpened()) {
+    if (!cap_ && !(cap_ = make_capture(detail))) return false;
+    if (!cap_->open_path(path_, cv::CAP_ANY)) {
       detail = "cannot decode video " + path_;
       return false;
     }
@@ -156,7 +159,7 @@ class VideoFileSource final : public FrameSource {
 
   ReadResult read(cv::Mat& bgr, const core::Clock& clock) override {
     ReadResult r;
-    if (!cap_.read(bgr)) {
+    if (!cap_ || !cap_->read(bgr)) {
       if (!path_exists(path_)) {
         r.status = ReadStatus::kLost;
         return r;
@@ -167,9 +170,9 @@ class VideoFileSource final : public FrameSource {
         r.status = ReadStatus::kEnd;
         return r;
       }
-      cap_.release();
+      cap_->release();
       std::string detail;
-      if (!open(detail) || !cap_.read(bgr)) {
+      if (!open(detail) || !cap_->read(bgr)) {
         r.status = ReadStatus::kLost;
         return r;
       }
@@ -191,7 +194,7 @@ class VideoFileSource final : public FrameSource {
  private:
   std::string path_;
   bool loop_;
-  cv::VideoCapture cap_;
+  std::unique_ptr<Capture> cap_;
   std::uint64_t frames_since_open_ = 0;
 };
 
@@ -215,6 +218,7 @@ class ImageDirectorySource final : public FrameSource {
       detail = "no image files in " + dir_.string();
       return false;
     }
+    if (!image_io_installed(&detail)) return false;
     std::sort(files_.begin(), files_.end(),
               [](const fs::path& a, const fs::path& b) { return a.filename() < b.filename(); });
     return true;
@@ -230,7 +234,7 @@ class ImageDirectorySource final : public FrameSource {
       next_ = 0;
     }
     const fs::path& file = files_[next_++];
-    bgr = cv::imread(file.string(), cv::IMREAD_COLOR);
+    bgr = read_image(file.string());
     r.stamp_ns = clock.now_ns();
     if (bgr.empty()) {
       r.status = path_exists(dir_) ? ReadStatus::kFailed : ReadStatus::kLost;
@@ -264,6 +268,9 @@ class FollowDirectorySource final : public FrameSource {
       detail = "no frame directory " + dir_.string();
       return false;
     }
+    // The module itself loads with the first frame; a boat whose camera shows nothing yet
+    // does not carry it.
+    if (!image_io_installed(&detail)) return false;
     have_last_ = false;
     return true;
   }
@@ -291,7 +298,7 @@ class FollowDirectorySource final : public FrameSource {
       return r;
     }
     r.stamp_ns = clock.now_ns();  // the frame appeared now (the writer renders in real time)
-    bgr = cv::imread(newest_path_.string(), cv::IMREAD_COLOR);
+    bgr = read_image(newest_path_.string());
     if (bgr.empty()) {
       if (!path_exists(newest_path_)) {
         // Deleted between the listing and the read: a newer one is already there.

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/drivers/camera/viewer_images.hpp"
 
+#include "coxswain/drivers/camera/image_io.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
 
@@ -24,14 +25,10 @@ double encode_viewer_jpeg(const cv::Mat& bgr, std::uint32_t max_width_px,
                cv::INTER_AREA);
     image = &scaled;
   }
-  const std::vector<int> params{cv::IMWRITE_JPEG_QUALITY,
-                                static_cast<int>(std::clamp<std::uint32_t>(jpeg_quality, 1, 100))};
-  try {
-    if (!cv::imencode(".jpg", *image, out, params)) {
-      out.clear();
-      return 0.0;
-    }
-  } catch (const cv::Exception&) {
+  const ImageIoModule* io = image_io();
+  if (io == nullptr ||
+      !io->encode_jpeg(*image, static_cast<int>(std::clamp<std::uint32_t>(jpeg_quality, 1, 100)),
+                       out)) {
     out.clear();
     return 0.0;
   }
