@@ -406,7 +406,8 @@ std::string laser_scan_json(const msg::LidarScan& scan, std::size_t bins) {
   const double step = 2.0 * std::numbers::pi / static_cast<double>(bins);
   const double start = -std::numbers::pi;
   std::vector<double> ranges(bins, 0.0);
-  std::vector<double> intensities(bins, 0.0);
+  // Whole numbers (the lidar's quality is an integer): "47", not "47.0", in every bin's text.
+  std::vector<int> intensities(bins, 0);
   const std::size_t n = std::min<std::size_t>(scan.point_count, msg::LidarScan::kMaxPoints);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = scan.points[i];
@@ -418,7 +419,7 @@ std::string laser_scan_json(const msg::LidarScan& scan, std::size_t bins) {
     const auto b = static_cast<std::size_t>(bin);
     if (ranges[b] == 0.0 || static_cast<double>(p.range_m) < ranges[b]) {
       ranges[b] = static_cast<double>(p.range_m);
-      intensities[b] = static_cast<double>(p.quality);
+      intensities[b] = static_cast<int>(p.quality);
     }
   }
   for (double& r : ranges) r = mm(r);

@@ -209,6 +209,8 @@ struct Recorder::WriterState {
   TrackLine track;
   bool map_written = false;
   core::TimeNs last_map_ns = 0;
+  bool viz_written = false;
+  core::TimeNs last_viz_ns = 0;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
   bool failure_reported = false;
 };
@@ -585,7 +587,13 @@ bool Recorder::drain_once() {
     any = true;
     write(RecordChannel::kTick, s->now_ns,
           std::span<const std::uint8_t>(s->bytes.data(), s->length));
-    if (s->has_viz) {
+    // The Foxglove views at most every viz_period_ns: /tick holds every tick for replay.
+    const bool viz_due = s->has_viz && (!st.viz_written || options_.viz_period_ns <= 0 ||
+                                        s->now_ns - st.last_viz_ns >= options_.viz_period_ns);
+    if (s->has_viz && s->viz.pose_valid) st.track.add({s->viz.north_m, s->viz.east_m});
+    if (viz_due) {
+      st.viz_written = true;
+      st.last_viz_ns = s->now_ns;
       if (s->viz.pose_valid) {
         write(RecordChannel::kVizPose, s->now_ns,
               foxglove::frame_transform_json(st.utc(s->now_ns), s->viz));
@@ -594,7 +602,6 @@ bool Recorder::drain_once() {
             foxglove::scene_update_json(
                 st.utc(s->now_ns), s->viz,
                 std::string_view(s->state_path.data(), s->state_path_length)));
-      if (s->viz.pose_valid) st.track.add({s->viz.north_m, s->viz.east_m});
       if (!st.map_written || s->now_ns - st.last_map_ns >= options_.map_period_ns) {
         st.map_written = true;
         st.last_map_ns = s->now_ns;
