@@ -149,7 +149,12 @@ class AStarPlanner {
   std::uint32_t heap_pop();
   void sift_up(std::size_t i);
   void sift_down(std::size_t i);
-  [[nodiscard]] bool less(std::uint32_t a, std::uint32_t b) const;
+  struct HeapEntry {
+    float f;
+    float h;
+    std::uint32_t cell;
+  };
+  [[nodiscard]] static bool less(const HeapEntry& a, const HeapEntry& b);
 
   std::uint32_t rows_;
   std::uint32_t cols_;
@@ -161,7 +166,7 @@ class AStarPlanner {
   std::vector<std::uint8_t> escaping_;  // reached from an inflated start through inflation only
   std::vector<std::uint32_t> visit_;    // the plan that last touched each cell (see plan)
   std::uint32_t generation_ = 0;
-  std::vector<std::uint32_t> heap_;
+  std::vector<HeapEntry> heap_;
   std::size_t heap_size_ = 0;
   std::vector<std::uint32_t> cells_;  // scratch: the path as cells, goal first
   std::vector<core::NavPoint> path_;

@@ -251,7 +251,11 @@ class MapPlanner {
   /// Spreads each cell's nearest obstacle (site) to its neighbours from the `queued` cells at
   /// the front of queue_, as far as the soft band reaches (squared cell distances).
   void spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint32_t>& site,
-              std::size_t queued);
+              std::size_t queued, bool note);
+  /// A cell's state, depth and cost from its distance (and, with unknown_cost, the map).
+  void derive(const NavMap& map, std::size_t k);
+  /// Lists a cell whose values now differ from the known layer's (once per plan).
+  void note_changed(std::uint32_t k);
   /// Whether the straight line from `a` to `b` stays where a boat at `a` may go: free cells, or
   /// inflated ones no deeper than a's own (leaving the inflation it starts in).
   [[nodiscard]] bool line_clear(core::NavPoint a, core::NavPoint b) const;
@@ -280,6 +284,13 @@ class MapPlanner {
   std::uint8_t unknown_cost_ = 0;
   std::uint32_t band_dist2_ = 0;
   std::vector<Offset> goal_ring_;  // offsets within goal_search_m, nearest first
+  // The cells that differ from the known layer after this plan and the last (see inflate), and
+  // the plan that last listed each cell.
+  std::vector<std::uint32_t> changed_;
+  std::vector<std::uint32_t> previous_changed_;
+  std::vector<std::uint32_t> changed_stamp_;
+  std::uint32_t plan_stamp_ = 0;
+  bool inflated_once_ = false;
   AStarPlanner astar_;
   std::vector<core::NavPoint> path_;  // capacity reserved once: assignments never allocate
   PlanStatus status_ = PlanStatus::kNoPath;

@@ -173,53 +173,56 @@ AStarPlanner::AStarPlanner(std::uint32_t rows, std::uint32_t cols)
   path_.reserve(g_.size() + 2);
 }
 
-bool AStarPlanner::less(std::uint32_t a, std::uint32_t b) const {
-  // Lower f, then lower h (deeper toward the goal), then lower index: fully deterministic.
-  if (f_[a] != f_[b]) return f_[a] < f_[b];
-  if (h_[a] != h_[b]) return h_[a] < h_[b];
-  return a < b;
+bool AStarPlanner::less(const HeapEntry& a, const HeapEntry& b) {
+  // Lower f, then lower h (deeper toward the goal), then lower index: fully deterministic. The
+  // keys travel with the heap's entries, so a comparison reads no other array.
+  if (a.f != b.f) return a.f < b.f;
+  if (a.h != b.h) return a.h < b.h;
+  return a.cell < b.cell;
 }
 
 void AStarPlanner::sift_up(std::size_t i) {
-  const std::uint32_t cell = heap_[i];
+  const HeapEntry e = heap_[i];
   while (i > 0) {
     const std::size_t parent = (i - 1) / 2;
-    if (!less(cell, heap_[parent])) break;
+    if (!less(e, heap_[parent])) break;
     heap_[i] = heap_[parent];
-    heap_pos_[heap_[i]] = static_cast<std::int32_t>(i);
+    heap_pos_[heap_[i].cell] = static_cast<std::int32_t>(i);
     i = parent;
   }
-  heap_[i] = cell;
-  heap_pos_[cell] = static_cast<std::int32_t>(i);
+  heap_[i] = e;
+  heap_pos_[e.cell] = static_cast<std::int32_t>(i);
 }
 
 void AStarPlanner::sift_down(std::size_t i) {
-  const std::uint32_t cell = heap_[i];
+  const HeapEntry e = heap_[i];
   for (;;) {
     std::size_t child = 2 * i + 1;
     if (child >= heap_size_) break;
     if (child + 1 < heap_size_ && less(heap_[child + 1], heap_[child])) ++child;
-    if (!less(heap_[child], cell)) break;
+    if (!less(heap_[child], e)) break;
     heap_[i] = heap_[child];
-    heap_pos_[heap_[i]] = static_cast<std::int32_t>(i);
+    heap_pos_[heap_[i].cell] = static_cast<std::int32_t>(i);
     i = child;
   }
-  heap_[i] = cell;
-  heap_pos_[cell] = static_cast<std::int32_t>(i);
+  heap_[i] = e;
+  heap_pos_[e.cell] = static_cast<std::int32_t>(i);
 }
 
 void AStarPlanner::heap_push(std::uint32_t cell) {
-  heap_[heap_size_] = cell;
+  heap_[heap_size_] = {f_[cell], h_[cell], cell};
   ++heap_size_;
   sift_up(heap_size_ - 1);
 }
 
 void AStarPlanner::heap_decrease(std::uint32_t cell) {
-  sift_up(static_cast<std::size_t>(heap_pos_[cell]));
+  const auto at = static_cast<std::size_t>(heap_pos_[cell]);
+  heap_[at].f = f_[cell];
+  sift_up(at);
 }
 
 std::uint32_t AStarPlanner::heap_pop() {
-  const std::uint32_t top = heap_[0];
+  const std::uint32_t top = heap_[0].cell;
   --heap_size_;
   if (heap_size_ > 0) {
     heap_[0] = heap_[heap_size_];

@@ -436,8 +436,11 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       state_(known_dist2_.size(), CellState::kFree),
       depth_(known_dist2_.size(), 0),
       cost_(known_dist2_.size(), 0),
+      changed_stamp_(known_dist2_.size(), 0U),
       astar_(rows_, cols_) {
   path_.reserve(known_dist2_.size() + 2);
+  changed_.reserve(known_dist2_.size());
+  previous_changed_.reserve(known_dist2_.size());
   if (auto e = params.validate()) throw std::invalid_argument(*e);
   if (!std::isfinite(half_beam_m) || half_beam_m < 0.0) {
     throw std::invalid_argument("planner: half beam must be >= 0");
@@ -492,7 +495,7 @@ MapPlanner::MapPlanner(const NavMap& map, const MapPlannerParams& params, double
       queue_[queued++] = static_cast<std::uint32_t>(k);
     }
   }
-  spread(known_dist2_, known_site_, queued);
+  spread(known_dist2_, known_site_, queued, false);
 }
 
 void MapPlanner::fade_near(core::NavPoint goal) {
@@ -511,8 +514,9 @@ void MapPlanner::fade_near(core::NavPoint goal) {
       if (c < 0 || c >= cols) continue;
       const double f = std::hypot(dr, dc) / radius;
       if (f >= 1.0) continue;
-      std::uint8_t& cost = cost_[static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c)];
-      cost = static_cast<std::uint8_t>(std::lround(cost * f));
+      const std::size_t k = static_cast<std::size_t>(r) * cols_ + static_cast<std::size_t>(c);
+      note_changed(static_cast<std::uint32_t>(k));  // worked out afresh at the next plan
+      cost_[k] = static_cast<std::uint8_t>(std::lround(cost_[k] * f));
     }
   }
 }
@@ -522,7 +526,7 @@ GridView MapPlanner::view() const {
 }
 
 void MapPlanner::spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint32_t>& site,
-                        std::size_t queued) {
+                        std::size_t queued, bool note) {
   const std::size_t cap = queue_.size();
   std::size_t head = 0;
   std::size_t tail = queued % cap;
@@ -550,6 +554,7 @@ void MapPlanner::spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint
         if (d2 >= dist2[k]) continue;
         dist2[k] = d2;
         site[k] = s;
+        if (note) note_changed(static_cast<std::uint32_t>(k));
         if (count == cap) continue;  // cannot happen with the ring's size; never overrun it
         queue_[tail] = static_cast<std::uint32_t>(k);
         tail = tail + 1 == cap ? 0 : tail + 1;
@@ -559,36 +564,69 @@ void MapPlanner::spread(std::vector<std::uint32_t>& dist2, std::vector<std::uint
   }
 }
 
+void MapPlanner::derive(const NavMap& map, std::size_t k) {
+  const std::uint32_t d2 = dist2_[k];
+  std::uint8_t extra = 0;
+  if (d2 == 0) {
+    state_[k] = CellState::kOccupied;
+    depth_[k] = kDeepest;
+  } else if (d2 <= band_dist2_ && depth_by_dist2_[d2] != 0) {
+    state_[k] = CellState::kInflated;
+    depth_[k] = depth_by_dist2_[d2];
+  } else {
+    state_[k] = CellState::kFree;
+    depth_[k] = 0;
+    if (d2 <= band_dist2_) extra = cost_by_dist2_[d2];
+    if (map.log_odds(k) == 0.0F)
+      extra = static_cast<std::uint8_t>(std::min(255, extra + unknown_cost_));
+  }
+  cost_[k] = extra;
+}
+
+void MapPlanner::note_changed(std::uint32_t k) {
+  if (changed_stamp_[k] == plan_stamp_) return;
+  changed_stamp_[k] = plan_stamp_;
+  changed_.push_back(k);  // at most one entry per cell: within the capacity reserved
+}
+
 void MapPlanner::inflate(const NavMap& map) {
-  std::copy(known_dist2_.begin(), known_dist2_.end(), dist2_.begin());
-  std::copy(known_site_.begin(), known_site_.end(), site_.begin());
+  // Only the cells the lidar's obstacles reached (this plan's and the last's) and the last
+  // goal's faded costs differ from the known layer's values, so those alone are put back and
+  // worked out again: the same arrays as a copy of the whole known layer would give, without a
+  // pass over every cell. With a cost on unseen water every cell may change with each scan:
+  // then the whole grid, as on the first plan.
+  const bool whole = !inflated_once_ || unknown_cost_ != 0;
+  std::swap(changed_, previous_changed_);
+  changed_.clear();
+  if (++plan_stamp_ == 0) {
+    std::fill(changed_stamp_.begin(), changed_stamp_.end(), 0U);
+    plan_stamp_ = 1;
+  }
+  if (whole) {
+    std::copy(known_dist2_.begin(), known_dist2_.end(), dist2_.begin());
+    std::copy(known_site_.begin(), known_site_.end(), site_.begin());
+  } else {
+    for (const std::uint32_t k : previous_changed_) {
+      dist2_[k] = known_dist2_[k];
+      site_[k] = known_site_[k];
+    }
+  }
   std::size_t queued = 0;
   for (const std::uint32_t k : map.lidar_occupied()) {
     if (dist2_[k] == 0) continue;
     dist2_[k] = 0;
     site_[k] = k;
     queue_[queued++] = k;
+    note_changed(k);
   }
-  spread(dist2_, site_, queued);
-  const std::size_t n = dist2_.size();
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::uint32_t d2 = dist2_[k];
-    std::uint8_t extra = 0;
-    if (d2 == 0) {
-      state_[k] = CellState::kOccupied;
-      depth_[k] = kDeepest;
-    } else if (d2 <= band_dist2_ && depth_by_dist2_[d2] != 0) {
-      state_[k] = CellState::kInflated;
-      depth_[k] = depth_by_dist2_[d2];
-    } else {
-      state_[k] = CellState::kFree;
-      depth_[k] = 0;
-      if (d2 <= band_dist2_) extra = cost_by_dist2_[d2];
-      if (map.log_odds(k) == 0.0F)
-        extra = static_cast<std::uint8_t>(std::min(255, extra + unknown_cost_));
-    }
-    cost_[k] = extra;
+  spread(dist2_, site_, queued, true);
+  if (whole) {
+    for (std::size_t k = 0; k < dist2_.size(); ++k) derive(map, k);
+  } else {
+    for (const std::uint32_t k : previous_changed_) derive(map, k);
+    for (const std::uint32_t k : changed_) derive(map, k);
   }
+  inflated_once_ = true;
 }
 
 PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPoint goal) {

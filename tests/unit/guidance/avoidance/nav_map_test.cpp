@@ -427,3 +427,55 @@ TEST(MapPlanner, SeenAheadMeasuresThePathThroughWaterTheLidarHasSeen) {
 
 }  // namespace
 }  // namespace coxswain::guidance
+
+namespace coxswain::guidance {
+namespace {
+
+// Replanning works out again only the cells the lidar's obstacles reached (this plan's and the
+// last's) and the last goal's faded costs; the inflated grid must be what a planner building it
+// from nothing gives, after obstacles appear, move away and vanish, with and without the soft
+// clearance cost and the goal's fade.
+TEST(MapPlanner, ReplanningGivesTheGridAFreshPlannerBuildsAsObstaclesComeAndGo) {
+  for (const double clearance_cost : {0.0, 4.0}) {
+    NavMapParams mp = small_map();
+    const std::vector<std::vector<NavPoint>> no_go{
+        {{14.0, -3.0}, {14.0, 3.0}, {16.0, 3.0}, {16.0, -3.0}}};
+    NavMap m(mp, {}, no_go);
+    MapPlannerParams pp;
+    pp.clearance_cost = clearance_cost;
+    MapPlanner replanning(m, pp, 0.45);
+    std::uint32_t seed = 7;
+    const auto next = [&seed](double lo, double hi) {
+      seed = seed * 1664525U + 1013904223U;
+      return lo + (hi - lo) * static_cast<double>(seed >> 8) / static_cast<double>(1U << 24);
+    };
+    for (int step = 0; step < 40; ++step) {
+      // A few walls somewhere ahead, different each time: old cells clear, new ones mark.
+      std::vector<std::pair<NavPoint, NavPoint>> walls;
+      const int count = static_cast<int>(next(0.0, 4.0));
+      for (int w = 0; w < count; ++w) {
+        const NavPoint a{next(2.0, 12.0), next(-8.0, 8.0)};
+        walls.push_back({a, {a.north_m + next(-2.0, 2.0), a.east_m + next(-3.0, 3.0)}});
+      }
+      const core::NavPose pose{{next(-2.0, 1.0), next(-2.0, 2.0)}, next(-30.0, 30.0)};
+      for (int k = 0; k < 3; ++k) m.add_scan(scan_of(pose, walls), pose, kHull);
+      const NavPoint goal{next(6.0, 20.0), next(-6.0, 6.0)};
+      (void)replanning.plan(m, pose.position, goal);
+      MapPlanner fresh(m, pp, 0.45);
+      (void)fresh.plan(m, pose.position, goal);
+      const GridView a = replanning.view();
+      const GridView b = fresh.view();
+      const std::size_t n = static_cast<std::size_t>(a.rows) * a.cols;
+      std::size_t differing = 0;
+      for (std::size_t k = 0; k < n; ++k) {
+        differing += a.state[k] != b.state[k] || a.depth[k] != b.depth[k] || a.cost[k] != b.cost[k];
+      }
+      ASSERT_EQ(differing, 0U) << "step " << step << ", clearance cost " << clearance_cost;
+      ASSERT_EQ(replanning.status(), fresh.status());
+      ASSERT_EQ(replanning.path().size(), fresh.path().size());
+    }
+  }
+}
+
+}  // namespace
+}  // namespace coxswain::guidance
