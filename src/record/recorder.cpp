@@ -183,6 +183,22 @@ struct Recorder::Queues {
 };
 
 /// Everything only the writer thread touches.
+/// A rate limit on a stream of stamps: due at the first, then once per period on a fixed
+/// schedule (from the last due time, not the last stamp), so jitter in the stamps never skips
+/// one; a stream that fell a period behind starts the schedule again from its stamp.
+struct VizSchedule {
+  bool started = false;
+  core::TimeNs next_ns = 0;
+  bool due(core::TimeNs stamp_ns, core::TimeNs period_ns) {
+    if (period_ns <= 0) return true;
+    if (started && stamp_ns < next_ns) return false;
+    next_ns =
+        started && stamp_ns - next_ns < period_ns ? next_ns + period_ns : stamp_ns + period_ns;
+    started = true;
+    return true;
+  }
+};
+
 struct Recorder::WriterState {
   explicit WriterState(const RecorderOptions& o)
       : writer(McapWriterOptions{.profile = "coxswain",
@@ -209,8 +225,9 @@ struct Recorder::WriterState {
   TrackLine track;
   bool map_written = false;
   core::TimeNs last_map_ns = 0;
-  bool viz_written = false;
-  core::TimeNs last_viz_ns = 0;
+  // When the next /viz/scene and /tf, and the next /viz/scan, are due.
+  VizSchedule tick_viz;
+  VizSchedule scan_viz;
   std::array<std::uint64_t, kRecordChannelCount> dropped_logged{};
   bool failure_reported = false;
 };
@@ -588,12 +605,8 @@ bool Recorder::drain_once() {
     write(RecordChannel::kTick, s->now_ns,
           std::span<const std::uint8_t>(s->bytes.data(), s->length));
     // The Foxglove views at most every viz_period_ns: /tick holds every tick for replay.
-    const bool viz_due = s->has_viz && (!st.viz_written || options_.viz_period_ns <= 0 ||
-                                        s->now_ns - st.last_viz_ns >= options_.viz_period_ns);
     if (s->has_viz && s->viz.pose_valid) st.track.add({s->viz.north_m, s->viz.east_m});
-    if (viz_due) {
-      st.viz_written = true;
-      st.last_viz_ns = s->now_ns;
+    if (s->has_viz && st.tick_viz.due(s->now_ns, options_.viz_period_ns)) {
       if (s->viz.pose_valid) {
         write(RecordChannel::kVizPose, s->now_ns,
               foxglove::frame_transform_json(st.utc(s->now_ns), s->viz));
@@ -665,7 +678,8 @@ bool Recorder::drain_once() {
     const std::span<const std::uint8_t> data(s->bytes.data(), s->length);
     write(RecordChannel::kLidar, s->stamp_ns, data);
     std::uint64_t seq = 0;
-    if (proto::decode_sample(data, seq, st.lidar->value)) {
+    if (st.scan_viz.due(s->stamp_ns, options_.viz_period_ns) &&
+        proto::decode_sample(data, seq, st.lidar->value)) {
       st.lidar->value.stamp_ns = st.utc(st.lidar->value.stamp_ns);
       write(RecordChannel::kVizScan, s->stamp_ns,
             foxglove::laser_scan_json(st.lidar->value, options_.scan_viz_bins));

@@ -102,9 +102,10 @@ struct RecorderOptions {
   std::size_t lidar_queue_slots = 32;
   core::TimeNs drop_log_period_ns = 5 * core::kNsPerSec;
   std::size_t scan_viz_bins = 720;  // foxglove.LaserScan resolution
-  // /viz/scene and /tf at most this often (0: every tick). They are for viewing; every tick is
-  // in /tick for replay, and a scene per 50 Hz tick was most of the recorder's time and bytes.
-  core::TimeNs viz_period_ns = 100 * core::kNsPerMs;
+  // /viz/scene, /tf and /viz/scan at most this often (0: every tick and scan). They are for
+  // viewing: every tick is in /tick and every scan in /lidar for replay and the report, and a
+  // scene per 50 Hz tick was most of the recorder's time and bytes.
+  core::TimeNs viz_period_ns = 200 * core::kNsPerMs;
   /// The mission's geometry for /viz/map and /map/geojson, written with the track at the first
   /// tick and every `map_period_ns` after (a viewer seeking into the file finds the last one).
   MapGeometry map;
