@@ -144,8 +144,8 @@ class AStarPlanner {
   [[nodiscard]] std::size_t expanded() const { return expanded_; }
 
  private:
-  void heap_push(std::uint32_t cell);
-  void heap_decrease(std::uint32_t cell);
+  void heap_push(std::uint32_t cell, float f);
+  void heap_decrease(std::uint32_t cell, float f);
   std::uint32_t heap_pop();
   void sift_up(std::size_t i);
   void sift_down(std::size_t i);
@@ -159,7 +159,6 @@ class AStarPlanner {
   std::uint32_t rows_;
   std::uint32_t cols_;
   std::vector<float> g_;
-  std::vector<float> f_;
   std::vector<float> h_;
   std::vector<std::uint32_t> parent_;
   std::vector<std::int32_t> heap_pos_;  // -1 not in heap, -2 closed

@@ -162,7 +162,6 @@ AStarPlanner::AStarPlanner(std::uint32_t rows, std::uint32_t cols)
     : rows_(rows),
       cols_(cols),
       g_(static_cast<std::size_t>(rows) * cols),
-      f_(g_.size()),
       h_(g_.size()),
       parent_(g_.size()),
       heap_pos_(g_.size()),
@@ -209,15 +208,15 @@ void AStarPlanner::sift_down(std::size_t i) {
   heap_pos_[e.cell] = static_cast<std::int32_t>(i);
 }
 
-void AStarPlanner::heap_push(std::uint32_t cell) {
-  heap_[heap_size_] = {f_[cell], h_[cell], cell};
+void AStarPlanner::heap_push(std::uint32_t cell, float f) {
+  heap_[heap_size_] = {f, h_[cell], cell};
   ++heap_size_;
   sift_up(heap_size_ - 1);
 }
 
-void AStarPlanner::heap_decrease(std::uint32_t cell) {
+void AStarPlanner::heap_decrease(std::uint32_t cell, float f) {
   const auto at = static_cast<std::size_t>(heap_pos_[cell]);
-  heap_[at].f = f_[cell];
+  heap_[at].f = f;
   sift_up(at);
 }
 
@@ -263,10 +262,9 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
   touch(s);
   g_[s] = 0.0F;
   h_[s] = octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
-  f_[s] = h_[s];
   parent_[s] = s;
   escaping_[s] = grid.at(*s_cell) != CellState::kFree ? 1 : 0;
-  heap_push(s);
+  heap_push(s, h_[s]);
 
   const auto passable = [&](std::uint32_t from, std::int64_t r, std::int64_t c) {
     if (r < 0 || c < 0 || r >= rows_ || c >= cols_) return false;
@@ -319,11 +317,9 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
         if (heap_pos_[nb] == kNotInHeap) {
           h_[nb] = octile(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc),
                           g_cell->row, g_cell->col);
-          f_[nb] = cand + h_[nb];
-          heap_push(nb);
+          heap_push(nb, cand + h_[nb]);
         } else {
-          f_[nb] = cand + h_[nb];
-          heap_decrease(nb);
+          heap_decrease(nb, cand + h_[nb]);
         }
       }
     }

@@ -30,24 +30,24 @@ inline core::NavPoint heading_unit(double heading_deg) {
   return {std::cos(h), std::sin(h)};
 }
 
-/// Distance from p to the segment a-b.
-/// Squared distance from p to segment a-b.
-inline double point_segment_distance2(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
+/// The point of segment a-b nearest p.
+inline core::NavPoint nearest_on_segment(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
   const core::NavPoint ab = sub(b, a);
   const double len2 = dot(ab, ab);
   double t = len2 > 0.0 ? dot(sub(p, a), ab) / len2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  const core::NavPoint q = add(a, scale(ab, t));
-  const core::NavPoint d = sub(p, q);
+  return add(a, scale(ab, t));
+}
+
+/// Squared distance from p to the segment a-b (no square root, for broad phases).
+inline double point_segment_distance2(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
+  const core::NavPoint d = sub(p, nearest_on_segment(p, a, b));
   return dot(d, d);
 }
 
+/// Distance from p to the segment a-b.
 inline double point_segment_distance(core::NavPoint p, core::NavPoint a, core::NavPoint b) {
-  const core::NavPoint ab = sub(b, a);
-  const double len2 = dot(ab, ab);
-  double t = len2 > 0.0 ? dot(sub(p, a), ab) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  const core::NavPoint q = add(a, scale(ab, t));
+  const core::NavPoint q = nearest_on_segment(p, a, b);
   return std::hypot(p.north_m - q.north_m, p.east_m - q.east_m);
 }
 
