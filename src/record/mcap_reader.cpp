@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <iterator>
+#include <memory>
 
 #include "coxswain/record/bytes.hpp"
 #include "coxswain/record/crc32.hpp"
@@ -67,6 +68,47 @@ bool parse_chunk(std::span<const std::uint8_t> content, ChunkFields& c) {
   return !r.underrun();
 }
 
+/// Decompresses every zstd frame of `in` into `out`, which must come to exactly `expected`
+/// bytes. The output grows with what the frames really produce, never to the size the header
+/// claims up front: a small corrupt chunk claiming a large size costs no large allocation.
+std::string decompress_zstd(std::span<const std::uint8_t> in, std::uint64_t expected,
+                            std::vector<std::uint8_t>& out) {
+  constexpr std::size_t kFirstBytes = std::size_t{64} << 10U;
+  const std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> ctx(ZSTD_createDCtx(),
+                                                                    &ZSTD_freeDCtx);
+  if (!ctx) return "zstd: out of memory";
+  const auto cap = static_cast<std::size_t>(expected);
+  out.resize(std::min(cap, std::max(kFirstBytes, in.size() * 4)));
+  ZSTD_inBuffer src{in.data(), in.size(), 0};
+  std::size_t produced = 0;
+  for (;;) {
+    ZSTD_outBuffer dst{out.data(), out.size(), produced};
+    const std::size_t ret = ZSTD_decompressStream(ctx.get(), &dst, &src);
+    if (ZSTD_isError(ret) != 0U) return std::string("zstd: ") + ZSTD_getErrorName(ret);
+    produced = dst.pos;
+    if (ret == 0 && src.pos == src.size) break;  // the last frame is complete
+    if (produced == out.size()) {
+      if (out.size() == cap) {
+        // Full at the declared size: finished only if zstd has nothing more to give.
+        std::uint8_t probe = 0;
+        ZSTD_outBuffer one{&probe, 1, 0};
+        const std::size_t more = ZSTD_decompressStream(ctx.get(), &one, &src);
+        if (ZSTD_isError(more) != 0U) return std::string("zstd: ") + ZSTD_getErrorName(more);
+        if (one.pos != 0) return "chunk uncompressed size mismatch";
+        if (more == 0 && src.pos == src.size) break;
+        if (src.pos == src.size) return "zstd: truncated frame";
+        continue;
+      }
+      out.resize(std::min(cap, out.size() * 2));
+    } else if (src.pos == src.size) {
+      return "zstd: truncated frame";  // room to write, nothing left to read, frame unfinished
+    }
+  }
+  if (produced != cap) return "chunk uncompressed size mismatch";
+  out.resize(produced);
+  return {};
+}
+
 /// Decompresses (or copies) a chunk's records and checks its CRC. Empty string = success.
 std::string unpack_chunk(const ChunkFields& c, std::vector<std::uint8_t>& out) {
   // A chunk's sizes come from the file: check them against what the bytes can hold before
@@ -84,15 +126,11 @@ std::string unpack_chunk(const ChunkFields& c, std::vector<std::uint8_t>& out) {
     }
     if (c.uncompressed_size > c.records.size() * kMaxZstdRatio) return "chunk too large";
   }
-  out.resize(static_cast<std::size_t>(c.uncompressed_size));
   if (c.compression == "zstd") {
-    const std::size_t n =
-        ZSTD_decompress(out.data(), out.size(), c.records.data(), c.records.size());
-    if (ZSTD_isError(n) != 0U) return std::string("zstd: ") + ZSTD_getErrorName(n);
-    if (n != out.size()) return "chunk uncompressed size mismatch";
+    const std::string err = decompress_zstd(c.records, c.uncompressed_size, out);
+    if (!err.empty()) return err;
   } else if (c.compression.empty()) {
-    if (c.records.size() != out.size()) return "chunk uncompressed size mismatch";
-    std::copy(c.records.begin(), c.records.end(), out.begin());
+    out.assign(c.records.begin(), c.records.end());
   } else {
     return "unsupported chunk compression '" + c.compression + "'";
   }

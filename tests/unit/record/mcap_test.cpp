@@ -238,6 +238,47 @@ TEST(McapReader, ChunkClaimingAHugeUncompressedSizeIsSkippedWithoutAllocatingIt)
   }
 }
 
+// A compressed chunk claiming more bytes than its frames hold is refused, however the claim
+// compares with the frames' own header (the reader grows its buffer with what zstd produces).
+TEST(McapReader, CompressedChunkWhoseFramesFallShortOfItsClaimIsRefused) {
+  for (const std::uint64_t extra :
+       {std::uint64_t{1}, std::uint64_t{1000}, std::uint64_t{1} << 20U}) {
+    const fs::path path = temp_path("short_chunk.mcap");
+    McapWriterOptions opt;
+    opt.compress = true;
+    McapWriter w(opt);
+    ASSERT_TRUE(w.open(path));
+    const auto ch = w.add_channel(0, "/x", "raw");
+    for (int i = 0; i < 200; ++i) {
+      ASSERT_TRUE(w.write_message(ch, static_cast<std::uint64_t>(i + 1), 1,
+                                  bytes_of("PAYLOAD-" + std::to_string(i))));
+    }
+    ASSERT_TRUE(w.close());
+    auto bytes = read_file(path);
+    std::size_t at = 8;
+    while (at + 9 <= bytes.size() && bytes[at] != 0x06) {
+      std::uint64_t len = 0;
+      for (std::size_t i = 0; i < 8; ++i) len |= std::uint64_t{bytes[at + 1 + i]} << (8 * i);
+      at += 9 + len;
+    }
+    ASSERT_LT(at + 9 + 24, bytes.size());
+    std::uint64_t claimed = 0;
+    for (std::size_t i = 0; i < 8; ++i) claimed |= std::uint64_t{bytes[at + 9 + 16 + i]} << (8 * i);
+    claimed += extra;
+    for (std::size_t i = 0; i < 8; ++i) {
+      bytes[at + 9 + 16 + i] = static_cast<std::uint8_t>(claimed >> (8 * i));
+    }
+    McapReader r;
+    r.load(bytes);
+    McapReadReport report;
+    const auto got = read_all(r, report);
+    EXPECT_TRUE(got.empty()) << extra;
+    EXPECT_EQ(report.chunk_crc_errors, 1U) << extra;
+    EXPECT_NE(report.error.find("size mismatch"), std::string::npos) << report.error;
+    fs::remove(path);
+  }
+}
+
 TEST(McapReader, TruncationAtEveryByteRecoversEveryCompleteChunk) {
   const fs::path path = temp_path("trunc.mcap");
   McapWriter w;
