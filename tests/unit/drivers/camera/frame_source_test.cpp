@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 #include "camera_test_util.hpp"
 #include "coxswain/drivers/camera/frame_source.hpp"
@@ -210,6 +211,10 @@ TEST(CameraSource, WriterRejectsBadFrames) {
   ASSERT_TRUE(writer.write(flat(1)));
   writer.remove_all();
   EXPECT_TRUE(fs::is_empty(writer.directory()));
+  // A format no encoder knows is refused when the writer is made, not frame by frame.
+  EXPECT_THROW(sim::devices::camera::FrameDirWriter(dir.path() / "odd", {".nosuchformat", 3}),
+               std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir.path() / "odd"));
 }
 
 }  // namespace

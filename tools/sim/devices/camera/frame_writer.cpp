@@ -2,6 +2,7 @@
 #include "sim/devices/camera/frame_writer.hpp"
 
 #include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -13,6 +14,18 @@ namespace fs = std::filesystem;
 
 FrameDirWriter::FrameDirWriter(fs::path directory, FrameWriterOptions options)
     : directory_(std::move(directory)), options_(std::move(options)) {
+  // Asking here also builds OpenCV's codec registry on the constructing thread, before any
+  // reader thread of this process starts: the registry's own guard is invisible to
+  // ThreadSanitizer, so a first write racing a reader's first read would be reported.
+  bool writable = false;
+  try {
+    writable = cv::haveImageWriter(options_.extension);
+  } catch (const cv::Exception&) {
+  }
+  if (!writable) {
+    throw std::invalid_argument("camera frame writer: no image encoder for extension '" +
+                                options_.extension + "'");
+  }
   fs::create_directories(directory_);
   remove_all();
 }

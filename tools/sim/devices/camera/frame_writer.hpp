@@ -26,8 +26,9 @@ struct FrameWriterOptions {
 class FrameDirWriter {
  public:
   /// Creates `directory` if needed and removes frame files a previous run left there (their
-  /// higher indices would otherwise shadow this run's frames). Throws std::filesystem_error when
-  /// the directory cannot be created.
+  /// higher indices would otherwise shadow this run's frames). Throws std::invalid_argument when
+  /// no encoder knows `options.extension`, std::filesystem_error when the directory cannot be
+  /// created.
   explicit FrameDirWriter(std::filesystem::path directory, FrameWriterOptions options = {});
   FrameDirWriter(const FrameDirWriter&) = delete;
   FrameDirWriter& operator=(const FrameDirWriter&) = delete;
