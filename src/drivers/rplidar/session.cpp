@@ -73,7 +73,7 @@ RplidarSession::RplidarSession(const config::LidarDeviceConfig& config,
     : config_(config), scans_(scans) {
   ScanAssemblerParams p;
   p.mount = lidar_mount;
-  assembler_ = std::make_unique<ScanAssembler>(p);
+  assembler_.emplace(p);
   note("not opened yet");
 }
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -56,7 +57,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cfg.scan_mode = static_cast<coxswain::config::LidarScanMode>(sel % 3);
   cfg.timeout_ms = 200 + 100U * ((sel >> 2) % 8);
   static coxswain::core::LatestSlot<coxswain::msg::LidarScan> slot;
-  rp::RplidarSession session(cfg, {180.0, 0.0, 0.0}, slot);
+  // Made afresh for every input, in storage kept between inputs: a session holds two full
+  // scans, and a new heap block of that size costs the sanitizer a mapping and its page faults.
+  static std::optional<rp::RplidarSession> session_storage;
+  session_storage.reset();
+  rp::RplidarSession& session =
+      session_storage.emplace(cfg, coxswain::core::MountTransform{180.0, 0.0, 0.0}, slot);
   Link link;
   TimeNs now = 1'000'000'000;
   link.now_ns = now;
@@ -83,7 +89,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                              emu::Model::kS1, emu::Model::kC1};
     ec.model = kModels[(sel >> 2) % 5];
     ec.spin_up_ms = 0;
-    emu::Emulator e(ec);
+    static std::optional<emu::Emulator> emulator_storage;
+    emulator_storage.reset();
+    emu::Emulator& e = emulator_storage.emplace(ec);
     std::vector<float> ranges(360);
     for (std::size_t i = 0; i < ranges.size(); ++i)
       ranges[i] = 0.5F + 0.01F * static_cast<float>(i);

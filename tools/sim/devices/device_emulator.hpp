@@ -22,7 +22,7 @@ class DeviceEmulator {
   /// Bytes written by the host, split anywhere.
   virtual void receive(std::span<const std::uint8_t> host_bytes, core::TimeNs now_ns) = 0;
   /// Everything the device sends up to `now_ns` (answers first, then data that fell due). The
-  /// view stays valid until the next call to poll().
+  /// view stays valid until the next call to poll() or receive().
   [[nodiscard]] virtual std::span<const std::uint8_t> poll(core::TimeNs now_ns) = 0;
 };
 

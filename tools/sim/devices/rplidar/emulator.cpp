@@ -162,7 +162,7 @@ Emulator::Emulator(const EmulatorConfig& config)
       revolution_hz_(std::clamp(config.revolution_hz, 1.0, 50.0)),
       health_status_(config.health_status),
       health_code_(config.health_error_code),
-      out_(kOutputCapacity) {
+      out_(kInitialOutputBytes) {
   ranges_.reserve(kMaxBeams);
   pending_ranges_.reserve(kMaxBeams);
 }
@@ -239,8 +239,12 @@ double Emulator::sample_us() const {
 
 void Emulator::put(std::span<const std::uint8_t> bytes) {
   if (config_.faults.silent) return;
-  const std::size_t room = out_.size() - out_len_;
+  const std::size_t room = kOutputCapacity - out_len_;
   const std::size_t n = std::min(room, bytes.size());
+  if (out_len_ + n > out_.size()) {
+    // Grown as output really accumulates: a few kilobytes per poll at real rates.
+    out_.resize(std::min(kOutputCapacity, std::max(out_.size() * 2, out_len_ + n)));
+  }
   std::memcpy(out_.data() + out_len_, bytes.data(), n);
   out_len_ += n;
   stats_.dropped_bytes += bytes.size() - n;

@@ -119,6 +119,7 @@ class Emulator final : public DeviceEmulator {
  public:
   static constexpr std::size_t kMaxBeams = 8192;
   static constexpr std::size_t kOutputCapacity = 1 << 17;
+  static constexpr std::size_t kInitialOutputBytes = 1 << 12;
   /// At most this many samples are produced per poll; older ones are skipped.
   static constexpr std::uint64_t kMaxSamplesPerPoll = 40000;
 
