@@ -4,7 +4,8 @@
 // `shipped`: 1 = the shipped obstacle-course mission file and boat (swept hull on; the file
 // ships the planner on), 0 = the engines' defaults; `planner`: the lidar map and global planner
 // on or off, whatever the file says.
-// Each step is timed on its own and the median and p99 reported (the mean hides the tail).
+// Each step is timed on its own and the median and p99 reported (the mean hides the tail), and
+// the p99 of the steps' own costs (input_p99_us: the same sequence of steps pass after pass).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -12,9 +13,11 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "common/call_samples.hpp"
 #include "coxswain/config/config.hpp"
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/geodesy.hpp"
@@ -40,6 +43,8 @@ double range_at(double b_deg) {
 }
 
 struct Setup {
+  // Five seconds of scans before any step is timed: the map has settled, as on the water.
+  static constexpr int kWarmUpSteps = 250;
   Setup(bool shipped, bool planner) {
     config::Configuration c;
     if (shipped) {
@@ -79,7 +84,7 @@ struct Setup {
     snap->gnss.value.fix_ok = true;
     snap->gnss.value.fix_type = msg::FixType::k3D;
     snap->arduino.value.mode = msg::ControlMode::kAutonomous;
-    for (int i = 0; i < 10; ++i) tick(true);
+    for (int i = 0; i < kWarmUpSteps; ++i) tick(true);
   }
   void tick(bool new_scan) {
     now += 20 * core::kNsPerMs;
@@ -104,36 +109,36 @@ struct Setup {
 void run_steps(benchmark::State& state, bool new_scan) {
   const bool shipped = state.range(0) != 0;
   const bool planner = state.range(1) != 0;
-  Setup s(shipped, planner);
-  if (!s.error.empty()) {
-    state.SkipWithError(s.error.c_str());
+  std::optional<Setup> setup;
+  setup.emplace(shipped, planner);
+  if (!setup->error.empty()) {
+    state.SkipWithError(setup->error.c_str());
     return;
   }
-  if (s.out->status.state_path.view() != "obstacle_course/navigate") {
+  if (setup->out->status.state_path.view() != "obstacle_course/navigate") {
     state.SkipWithError("mission did not start");
     return;
   }
-  std::vector<double> samples_us;
-  samples_us.reserve(std::size_t{1} << 20);
+  // The same kSteps steps from a fresh start, pass after pass: step i of every pass sees the
+  // same inputs, so its least time is its own cost (the input p99, see call_samples.hpp).
+  constexpr std::size_t kSteps = 500;
+  bench::CallSamples samples(kSteps);
+  std::size_t step = 0;
   for (auto _ : state) {
-    const auto t0 = std::chrono::steady_clock::now();
-    s.tick(new_scan);
-    const auto t1 = std::chrono::steady_clock::now();
-    benchmark::DoNotOptimize(s.out->command);
-    if (samples_us.size() < samples_us.capacity()) {
-      samples_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    if (step == kSteps) {
+      state.PauseTiming();
+      setup.emplace(shipped, planner);
+      step = 0;
+      state.ResumeTiming();
     }
+    const auto t0 = std::chrono::steady_clock::now();
+    setup->tick(new_scan);
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(setup->out->command);
+    samples.add(step++, std::chrono::duration<double, std::micro>(t1 - t0).count());
   }
-  if (!samples_us.empty()) {
-    std::sort(samples_us.begin(), samples_us.end());
-    const auto at = [&](double q) {
-      return samples_us[static_cast<std::size_t>(q * static_cast<double>(samples_us.size() - 1))];
-    };
-    state.counters["p50_us"] = at(0.50);
-    state.counters["p99_us"] = at(0.99);
-    state.counters["max_us"] = samples_us.back();
-  }
-  state.counters["segments"] = static_cast<double>(s.out->viz.segment_count);
+  samples.report(state);
+  state.counters["segments"] = static_cast<double>(setup->out->viz.segment_count);
   state.SetLabel(std::string(shipped ? "shipped obstacle_course.yaml" : "engine defaults") +
                  (planner ? ", planner on" : ", planner off"));
 }

@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/call_samples.hpp"
 #include "coxswain/core/angles.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
 #include "peer_recording.hpp"
@@ -31,36 +32,27 @@ std::vector<testing::peer::PeerScan>& peer_scans() {
   return scans;
 }
 
-// Runs `scans` round robin, one process() per iteration, and adds p50/p99 counters in us.
+// Runs `scans` round robin, one process() per iteration, and adds p50/p99 counters in us (and
+// the input p99, see call_samples.hpp).
 void run_scans(benchmark::State& state, const LidarClusterParams& params,
                const std::vector<const msg::LidarScan*>& scans) {
   LidarClusterer clusterer(params);
   auto out = std::make_unique<Output>();
-  std::vector<double> samples_us;
-  samples_us.reserve(1 << 20);
+  bench::CallSamples samples(scans.size());
   std::size_t next = 0;
   std::size_t segments = 0;
   for (auto _ : state) {
-    const msg::LidarScan& scan = *scans[next];
+    const std::size_t input = next;
+    const msg::LidarScan& scan = *scans[input];
     next = (next + 1) % scans.size();
     const auto t0 = std::chrono::steady_clock::now();
     clusterer.process(scan, out->list, out->profile);
     const auto t1 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(out->list.count);
     segments += out->list.count;
-    if (samples_us.size() < samples_us.capacity()) {
-      samples_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-    }
+    samples.add(input, std::chrono::duration<double, std::micro>(t1 - t0).count());
   }
-  if (!samples_us.empty()) {
-    std::sort(samples_us.begin(), samples_us.end());
-    const auto at = [&](double q) {
-      return samples_us[static_cast<std::size_t>(q * static_cast<double>(samples_us.size() - 1))];
-    };
-    state.counters["p50_us"] = at(0.50);
-    state.counters["p99_us"] = at(0.99);
-    state.counters["max_us"] = samples_us.back();
-  }
+  samples.report(state);
   state.counters["segments_per_scan"] =
       static_cast<double>(segments) /
       static_cast<double>(std::max<std::int64_t>(1, state.iterations()));

@@ -3,7 +3,8 @@
 // followed by Avoidance::decide for each strategy (selection, score, risk_bin), on the source
 // team's recorded run (the shared test data folder/peer/, 174 scans of 1360 beams from the water).
 // Each iteration is one scan, timed on its own, so the median and p99 counters are per scan: the
-// mean Google Benchmark prints hides the tail that matters for a 10 Hz loop. Skipped, with a
+// mean Google Benchmark prints hides the tail that matters for a 10 Hz loop; the input p99 is
+// the p99 over the scans of each scan's least time (see call_samples.hpp). Skipped, with a
 // message, when the recording is absent.
 #include <benchmark/benchmark.h>
 
@@ -16,6 +17,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/call_samples.hpp"
 #include "coxswain/guidance/avoidance.hpp"
 #include "coxswain/perception/lidar_clusterer.hpp"
 #include "peer_recording.hpp"
@@ -38,22 +40,6 @@ struct Output {
   ObstacleList list;
   RangeProfile profile;
 };
-
-// Nearest-rank percentile of sorted samples.
-double percentile(const std::vector<double>& sorted, double q) {
-  const auto n = static_cast<double>(sorted.size());
-  const auto rank = static_cast<std::size_t>(std::max(1.0, std::ceil(q * n)));
-  return sorted[std::min(rank, sorted.size()) - 1];
-}
-
-void add_percentiles(benchmark::State& state, const char* prefix, std::vector<double>& samples) {
-  if (samples.empty()) return;
-  std::sort(samples.begin(), samples.end());
-  const std::string p(prefix);
-  state.counters[p + "p50_us"] = percentile(samples, 0.50);
-  state.counters[p + "p99_us"] = percentile(samples, 0.99);
-  state.counters[p + "max_us"] = samples.back();
-}
 
 double us(Clock::duration d) { return std::chrono::duration<double, std::micro>(d).count(); }
 
@@ -84,19 +70,16 @@ void BM_PeerLidarTick(benchmark::State& state) {
   LidarClusterer clusterer(peer_params());
   auto out = std::make_unique<Output>();
 
-  constexpr std::size_t kMaxSamples = std::size_t{1} << 20;
-  std::vector<double> total_us;
-  std::vector<double> cluster_us;
-  std::vector<double> avoid_us;
-  total_us.reserve(kMaxSamples);
-  cluster_us.reserve(kMaxSamples);
-  avoid_us.reserve(kMaxSamples);
+  bench::CallSamples total_us(scans.size());
+  bench::CallSamples cluster_us(scans.size());
+  bench::CallSamples avoid_us(scans.size());
   std::size_t next = 0;
   std::int64_t segments = 0;
   std::int64_t steering_away = 0;  // decisions that did not steer straight at the goal
   for (auto _ : state) {
-    const msg::LidarScan& scan = *scans[next].scan;
-    if (next == 0) avoidance->reset();  // the replay starts over: a new leg
+    const std::size_t input = next;
+    const msg::LidarScan& scan = *scans[input].scan;
+    if (input == 0) avoidance->reset();  // the replay starts over: a new leg
     next = (next + 1) % scans.size();
     const auto t0 = Clock::now();
     clusterer.process(scan, out->list, out->profile);
@@ -110,16 +93,14 @@ void BM_PeerLidarTick(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(out->list.count);
     segments += out->list.count;
-    if (total_us.size() < kMaxSamples) {
-      total_us.push_back(us(t2 - t0));
-      cluster_us.push_back(us(t1 - t0));
-      if (with_avoidance) avoid_us.push_back(us(t2 - t1));
-    }
+    total_us.add(input, us(t2 - t0));
+    cluster_us.add(input, us(t1 - t0));
+    if (with_avoidance) avoid_us.add(input, us(t2 - t1));
   }
-  add_percentiles(state, "", total_us);
+  total_us.report(state);
   if (with_avoidance) {
-    add_percentiles(state, "cluster_", cluster_us);
-    add_percentiles(state, "avoid_", avoid_us);
+    cluster_us.report(state, "cluster_");
+    avoid_us.report(state, "avoid_");
     state.counters["not_clear_pct"] =
         100.0 * static_cast<double>(steering_away) / static_cast<double>(state.iterations());
   }
