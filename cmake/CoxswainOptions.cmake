@@ -10,6 +10,18 @@ if(COXSWAIN_WERROR)
   target_compile_options(coxswain_options INTERFACE -Werror)
 endif()
 
+# The per-tick libraries (perception, guidance, control, mission) at -O3 in the optimised build
+# types: GCC's -O2 vectorises only the cheapest loops, and the lidar clustering alone is some
+# 13% faster at -O3. Floating-point results do not change (no -ffast-math; the x86-64 baseline
+# has no fused multiply-add to contract into). The quick sanitizer and fuzz trees of CI turn it
+# off to keep their -O1.
+option(COXSWAIN_OPTIMIZE_HOT_PATHS "Compile the per-tick libraries at -O3 in optimised builds" ON)
+function(coxswain_hot_path target)
+  if(COXSWAIN_OPTIMIZE_HOT_PATHS)
+    target_compile_options(${target} PRIVATE $<$<CONFIG:RelWithDebInfo,Release>:-O3>)
+  endif()
+endfunction()
+
 if(COXSWAIN_SANITIZE)
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     # GCC 12's flow analysis under the sanitizers reports false maybe-uninitialized warnings
