@@ -441,6 +441,8 @@ int run_daemon(const config::Configuration& config, const RunOptions& options) {
           reporter.report_counters(*snapshot, tick.now_ns);
           next_counters_ns += kCountersPeriodNs;
         }
+        // The map update and any replan, now the command is out and the tick is recorded.
+        core->finish_tick();
         return tick.now_ns < stop_at_ns;
       },
       [](const TickWindowStats& s) {

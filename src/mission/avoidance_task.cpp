@@ -71,6 +71,7 @@ class AvoidanceTask final : public AvoidingTask {
     passed_count_ = 0;
     have_prev_ = false;
     last_plan_ns_ = core::kNeverNs;
+    if (ctx.plan != nullptr) taken_plans_ = ctx.plan->made;  // plans made before are not ours
     no_path_ = false;
     off_map_ = false;
     failures_ = 0;
@@ -98,7 +99,8 @@ class AvoidanceTask final : public AvoidingTask {
     // a passage only a cell or two wide.
     const bool in_gate_mouth = judge_gates_ && gate_.seen && gate_side(gate_, ctx.antenna) < 0.0 &&
                                core::distance_m(ctx.antenna, gate_.mid()) < kGateMouthM;
-    if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && !in_gate_mouth) {
+    if (plan_.enabled && ctx.map != nullptr && ctx.planner != nullptr && ctx.plan != nullptr &&
+        !in_gate_mouth) {
       replan(ctx, goal);
       if (no_path_) {
         progress_.progress_made(ctx.now_ns);  // the no-path recovery moves the boat on its own
@@ -421,7 +423,11 @@ class AvoidanceTask final : public AvoidingTask {
     return {c.north_m + k * n.north_m, c.east_m + k * n.east_m};
   }
 
+  /// Takes the outcome of the last plan made for this task, then asks for a new one when one is
+  /// due: at most every replan_period_s, or at once when the goal moves. A plan asked for on this
+  /// tick is made after it (PlanRequest), so its outcome is taken on the next.
   void replan(const TaskContext& ctx, core::NavPoint goal) {
+    take_plan(ctx);
     const bool goal_moved = core::distance_m(goal, planned_goal_) > 0.5;
     if (last_plan_ns_ != core::kNeverNs && !goal_moved &&
         core::ns_to_sec(ctx.now_ns - last_plan_ns_) < plan_.replan_period_s) {
@@ -429,7 +435,19 @@ class AvoidanceTask final : public AvoidingTask {
     }
     last_plan_ns_ = ctx.now_ns;
     planned_goal_ = goal;
-    const guidance::PlanStatus st = ctx.planner->plan(*ctx.map, ctx.antenna, goal);
+    PlanRequest& r = *ctx.plan;
+    r.pending = true;
+    r.owner = this;
+    r.start = ctx.antenna;
+    r.goal = goal;
+  }
+
+  void take_plan(const TaskContext& ctx) {
+    const PlanRequest& r = *ctx.plan;
+    if (r.made == taken_plans_) return;
+    taken_plans_ = r.made;
+    if (r.made_for != this) return;
+    const guidance::PlanStatus st = r.status;
     off_map_ = st == guidance::PlanStatus::kStartOutside;
     if (off_map_) return;  // no map out here: the avoidance alone, toward the goal
     if (st == guidance::PlanStatus::kOk) {
@@ -599,6 +617,7 @@ class AvoidanceTask final : public AvoidingTask {
   // Planning.
   core::TimeNs last_plan_ns_ = core::kNeverNs;
   core::NavPoint planned_goal_;
+  std::uint64_t taken_plans_ = 0;  // PlanRequest::made when this task last looked
   int failures_ = 0;
   bool no_path_ = false;
   bool off_map_ = false;

@@ -70,6 +70,7 @@ void reset_viz(VizFrame& v) {
 }
 
 using detail::GuidanceRequest;
+using detail::PlanRequest;
 using detail::reason_printf;
 using detail::Task;
 using detail::TaskContext;
@@ -296,10 +297,9 @@ struct MissionCore::Impl {
       raw_antenna = position_filter.position_at(now);
     }
     update_pose();
-    // The map takes each scan at the pose it was taken with (this tick's estimate).
-    if (map && lidar_new && has_fix && has_heading) {
-      map->add_scan(s.lidar.value, pose, m.clustering.hull);
-    }
+    // The map takes each scan at the pose it was taken with (this tick's estimate), after the
+    // tick (finish_planning).
+    if (map && lidar_new && has_fix && has_heading) queue_scan(s.lidar.value);
   }
 
   /// The antenna's offset from the body origin in the navigation frame at the current heading.
@@ -459,6 +459,7 @@ struct MissionCore::Impl {
     c.camera = s.camera.valid() ? &s.camera.value : nullptr;
     c.map = map ? &*map : nullptr;
     c.planner = planner ? &*planner : nullptr;
+    c.plan = planner ? &plan_request : nullptr;
     const config::TaskConfig& tc = m.tasks[task_index];
     c.target_colour = tc.target_colour;
     c.target_shape = tc.target_shape;
@@ -525,7 +526,38 @@ struct MissionCore::Impl {
     transition(reason.view(), now, out);
   }
 
+  /// The map and plan work of the last tick, when the caller has not had it done yet: it always
+  /// comes before anything of the next tick, so where and when it runs changes no result.
+  void finish_planning() {
+    if (scan_queued) {
+      scan_queued = false;
+      map->add_scan(*queued_scan, queued_pose, queued_hull);
+    }
+    if (plan_request.pending) {
+      plan_request.pending = false;
+      plan_request.status = planner->plan(*map, plan_request.start, plan_request.goal);
+      plan_request.made_for = plan_request.owner;
+      ++plan_request.made;
+    }
+  }
+
+  /// Keeps this tick's scan (its returns only) and pose for finish_planning().
+  void queue_scan(const msg::LidarScan& scan) {
+    msg::LidarScan& q = *queued_scan;
+    q.stamp_ns = scan.stamp_ns;
+    q.duration_ns = scan.duration_ns;
+    q.max_range_m = scan.max_range_m;
+    q.min_range_m = scan.min_range_m;
+    q.revolution = scan.revolution;
+    q.point_count = std::min<std::uint32_t>(scan.point_count, msg::LidarScan::kMaxPoints);
+    std::copy_n(scan.points.begin(), q.point_count, q.points.begin());
+    queued_pose = pose;
+    queued_hull = m.clustering.hull;
+    scan_queued = true;
+  }
+
   void step(const core::Snapshot& s, core::TimeNs now, CoreOutput& out) {
+    finish_planning();
     out.transitions.count = 0;
     out.transitions.dropped = 0;
     reset_viz(out.viz);
@@ -568,8 +600,12 @@ struct MissionCore::Impl {
       status.gps_calibrated = true;
       update_pose();
     }
-    // What was mapped while waiting sits where the uncalibrated fixes put it.
-    if (map) map->clear_evidence();
+    // What was mapped while waiting sits where the uncalibrated fixes put it (this tick's scan
+    // too: its pose is from before the calibration).
+    if (map) {
+      map->clear_evidence();
+      scan_queued = false;
+    }
     course_zero_deg = m.navigation.course_zero_deg.value_or(heading_deg);
     top = Top::kActive;
     status.started = true;
@@ -735,6 +771,12 @@ struct MissionCore::Impl {
   perception::RangeProfile profile;
   std::optional<guidance::NavMap> map;
   std::optional<guidance::MapPlanner> planner;
+  // The work after a tick (finish_planning): the scan for the map and the plan a task asked for.
+  std::unique_ptr<msg::LidarScan> queued_scan = std::make_unique<msg::LidarScan>();
+  core::NavPose queued_pose;
+  perception::HullBox queued_hull;
+  bool scan_queued = false;
+  PlanRequest plan_request;
   // The camera detectors' tunables: kept for the live view, used by the camera thread.
   perception::VisionParams vision = perception::VisionParams::defaults();
   std::vector<std::unique_ptr<Task>> tasks;
@@ -792,8 +834,11 @@ void MissionCore::step(const core::Snapshot& snapshot, core::TimeNs now_ns, Core
   impl_->step(snapshot, now_ns, out);
 }
 
+void MissionCore::finish_tick() { impl_->finish_planning(); }
+
 std::string MissionCore::apply_parameters(const TunableParameters& params) {
   Impl& im = *impl_;
+  im.finish_planning();  // the last tick's work with the parameters it ran under
   const TunableParameters before = parameters();
   // The named values that changed, each checked against its range; the rest stay as they are.
   TunableParameters next = before;

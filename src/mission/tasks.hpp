@@ -29,6 +29,20 @@ enum Need : std::uint8_t {
   kNeedLidar = 1U << 2U,
 };
 
+/// A plan a task asks for on one tick. The core makes it after that tick's commands are out
+/// (MissionCore::finish_tick, at the latest as the next step begins), so no tick waits for A*;
+/// the task takes the result on a later tick.
+struct PlanRequest {
+  bool pending = false;
+  const void* owner = nullptr;  // the task that asked
+  core::NavPoint start;
+  core::NavPoint goal;
+  /// Plans made so far, the task the last one was made for, and its outcome.
+  std::uint64_t made = 0;
+  const void* made_for = nullptr;
+  guidance::PlanStatus status = guidance::PlanStatus::kNoPath;
+};
+
 /// What the core knows this tick, handed to the task.
 struct TaskContext {
   core::TimeNs now_ns = 0;
@@ -48,9 +62,12 @@ struct TaskContext {
   bool camera_fresh = false;
   bool camera_new = false;  // a frame arrived this tick
   const msg::CameraDetections* camera = nullptr;
-  /// The mission's map and planner (null when no task plans). The map is current for this tick.
+  /// The mission's map and planner (null when no task plans), as the work after the last tick
+  /// left them: this tick's scan joins the map, and a plan asked for now is made, after this
+  /// tick (see PlanRequest).
   const guidance::NavMap* map = nullptr;
-  guidance::MapPlanner* planner = nullptr;
+  const guidance::MapPlanner* planner = nullptr;
+  PlanRequest* plan = nullptr;
   msg::Colour target_colour = msg::Colour::kUnknown;  // operator input, else the task's
   msg::Shape target_shape = msg::Shape::kUnknown;
   double course_zero_deg = 0.0;

@@ -212,6 +212,12 @@ class MissionCore {
   /// past a count are left as they were; nothing reads them).
   void step(const core::Snapshot& snapshot, core::TimeNs now_ns, CoreOutput& out);
 
+  /// The work a step leaves for after its commands are out: its scan into the lidar map and the
+  /// plan a task asked for (a few hundred microseconds, where the step itself is tens). Call it
+  /// after using `out`, before the next step; a caller that does not gets it done as the next
+  /// step() or apply_parameters() begins, so the results are the same either way.
+  void finish_tick();
+
   /// Replaces the tunable parameters between two steps (never during one). Only the named
   /// parameters (tunable_specs()) are taken from `params`; the other fields of its structs keep
   /// the values in force. Returns an empty string when applied, else why the set was rejected
@@ -227,8 +233,8 @@ class MissionCore {
   /// (VisionParams::validate(); nothing changes then).
   [[nodiscard]] std::string set_vision(const perception::VisionParams& vision);
 
-  /// The mission's lidar map and global planner as the last step left them (null when the
-  /// mission plans without a map), for viewers and tools that draw what the boat believed.
+  /// The mission's lidar map and global planner as the last finish_tick() left them (null when
+  /// the mission plans without a map), for viewers and tools that draw what the boat believed.
   [[nodiscard]] const guidance::NavMap* nav_map() const;
   [[nodiscard]] const guidance::MapPlanner* map_planner() const;
 

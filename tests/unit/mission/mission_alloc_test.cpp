@@ -183,6 +183,7 @@ void expect_shipped_obstacle_course_tick_does_not_allocate(bool planner) {
     rig->imu(rig->heading_deg);
     rig->publish_arduino();
     rig->core.step(*rig->snap, rig->now, rig->out);
+    rig->core.finish_tick();  // the map update and replans, as the daemon runs them
     most_segments = std::max(most_segments, rig->out.viz.segment_count);
     rig->integrate();
     rig->now += kTickNs;

@@ -3,8 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <type_traits>
 
@@ -717,6 +720,74 @@ TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
       110.0);
   EXPECT_TRUE(done) << rig->log_text();
   EXPECT_FALSE(entered);
+}
+
+// The dead end above, with the map update and each replan done after the step (the daemon's
+// way) or as the next step begins (lockstep and replay): every command, state and drawn path
+// is the same, bit for bit, tick by tick, through a course that needs many replans.
+TEST(MissionObstacleCourse, TheWorkAfterATickGivesTheSameRunWhereverItIsDone) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({25.0, 0.0}));
+  std::array<std::unique_ptr<Rig>, 2> rigs;
+  for (std::size_t i = 0; i < rigs.size(); ++i) {
+    rigs[i] = std::make_unique<Rig>(c);
+    Rig& r = *rigs[i];
+    r.move = true;
+    r.finish_after_step = i == 0;
+    for (double e = -3.0; e <= 3.0; e += 0.25) r.world_buoys.push_back({{12.0, e}, 0.15});
+    for (double n = 7.0; n < 12.0; n += 0.25) {
+      r.world_buoys.push_back({{n, -3.0}, 0.15});
+      r.world_buoys.push_back({{n, 3.0}, 0.15});
+    }
+  }
+  Rig& after = *rigs[0];
+  Rig& inline_ = *rigs[1];
+  std::uint32_t most_path_points = 0;
+  for (int t = 0; t < 110 * 50 && !after.out.status.finished; ++t) {
+    after.tick();
+    inline_.tick();
+    const msg::ActuatorCommand& a = after.out.command;
+    const msg::ActuatorCommand& b = inline_.out.command;
+    ASSERT_EQ(a.pulse_us, b.pulse_us) << "tick " << t;
+    ASSERT_EQ(a.active, b.active) << "tick " << t;
+    // Before the pulses' rounding: the same doubles.
+    ASSERT_EQ(after.out.viz.desired_heading_deg, inline_.out.viz.desired_heading_deg) << t;
+    ASSERT_EQ(after.out.viz.turn_command, inline_.out.viz.turn_command) << "tick " << t;
+    ASSERT_EQ(after.out.viz.thrust_command, inline_.out.viz.thrust_command) << "tick " << t;
+    ASSERT_EQ(after.path(), inline_.path()) << "tick " << t;
+    ASSERT_EQ(after.out.viz.path_count, inline_.out.viz.path_count) << "tick " << t;
+    for (std::uint32_t k = 0; k < after.out.viz.path_count; ++k) {
+      ASSERT_EQ(after.out.viz.path[k].north_m, inline_.out.viz.path[k].north_m) << "tick " << t;
+      ASSERT_EQ(after.out.viz.path[k].east_m, inline_.out.viz.path[k].east_m) << "tick " << t;
+    }
+    most_path_points = std::max(most_path_points, after.out.viz.path_count);
+  }
+  EXPECT_TRUE(after.out.status.finished) << after.log_text();
+  EXPECT_GT(most_path_points, 2U);  // it planned round the pocket
+}
+
+// The step leaves the scan's map update for after it: the map holds the new scan's hits only
+// once finish_tick() has run (or the next step has begun).
+TEST(MissionObstacleCourse, AStepLeavesItsScanForTheMapUntilTheTickIsFinished) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  auto rig = std::make_unique<Rig>(c);
+  rig->finish_after_step = true;
+  rig->run_for(1.0);
+  ASSERT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  const guidance::NavMap* map = rig->core.nav_map();
+  ASSERT_NE(map, nullptr);
+  const std::size_t occupied_before = map->lidar_occupied().size();
+  // A wall 8 m ahead, new to the map: one scan, one step.
+  add_wall_ahead(rig->scan, 8.0, 4.0);
+  rig->lidar();
+  rig->imu(rig->heading_deg);
+  rig->core.step(*rig->snap, rig->now, rig->out);
+  EXPECT_EQ(map->lidar_occupied().size(), occupied_before);
+  rig->core.finish_tick();
+  EXPECT_GT(map->lidar_occupied().size(), occupied_before);
 }
 
 config::Configuration course1_config() {

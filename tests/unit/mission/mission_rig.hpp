@@ -169,6 +169,7 @@ class Rig {
       log.push_back("[" + std::to_string(core::ns_to_sec(now)) + "] " + std::string(t.from.view()) +
                     " -> " + std::string(t.to.view()) + ": " + std::string(t.reason.view()));
     }
+    if (finish_after_step) core.finish_tick();
     if (move) integrate();
     now += kTickNs;
     ++tick_count_;
@@ -320,6 +321,9 @@ class Rig {
   bool live_lidar = true;
   bool live_arduino = true;
   bool move = false;
+  /// Calls MissionCore::finish_tick() after each step, as the daemon does; else the work runs
+  /// as the next step begins.
+  bool finish_after_step = false;
   core::NavPoint position;
   double heading_deg = 0.0;
   double speed_mps = 0.0;

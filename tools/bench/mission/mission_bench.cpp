@@ -6,6 +6,8 @@
 // on or off, whatever the file says.
 // Each step is timed on its own and the median and p99 reported (the mean hides the tail), and
 // the p99 of the steps' own costs (input_p99_us: the same sequence of steps pass after pass).
+// The work each step leaves for after its command (MissionCore::finish_tick: the map update, a
+// replan) is timed apart, as after_*.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -84,7 +86,10 @@ struct Setup {
     snap->gnss.value.fix_ok = true;
     snap->gnss.value.fix_type = msg::FixType::k3D;
     snap->arduino.value.mode = msg::ControlMode::kAutonomous;
-    for (int i = 0; i < kWarmUpSteps; ++i) tick(true);
+    for (int i = 0; i < kWarmUpSteps; ++i) {
+      tick(true);
+      finish();
+    }
   }
   void tick(bool new_scan) {
     now += 20 * core::kNsPerMs;
@@ -98,6 +103,9 @@ struct Setup {
     snap->lidar.stamp_ns = now;
     core->step(*snap, now, *out);
   }
+  // The work after the step (the map update, a replan), as the daemon runs it once the
+  // command is out.
+  void finish() { core->finish_tick(); }
   std::string error;
   std::unique_ptr<MissionCore> core;
   std::unique_ptr<core::Snapshot> snap;
@@ -123,6 +131,7 @@ void run_steps(benchmark::State& state, bool new_scan) {
   // same inputs, so its least time is its own cost (the input p99, see call_samples.hpp).
   constexpr std::size_t kSteps = 500;
   bench::CallSamples samples(kSteps);
+  bench::CallSamples after(kSteps);
   std::size_t step = 0;
   for (auto _ : state) {
     if (step == kSteps) {
@@ -135,9 +144,13 @@ void run_steps(benchmark::State& state, bool new_scan) {
     setup->tick(new_scan);
     const auto t1 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(setup->out->command);
-    samples.add(step++, std::chrono::duration<double, std::micro>(t1 - t0).count());
+    setup->finish();
+    const auto t2 = std::chrono::steady_clock::now();
+    samples.add(step, std::chrono::duration<double, std::micro>(t1 - t0).count());
+    after.add(step++, std::chrono::duration<double, std::micro>(t2 - t1).count());
   }
   samples.report(state);
+  after.report(state, "after_");
   state.counters["segments"] = static_cast<double>(setup->out->viz.segment_count);
   state.SetLabel(std::string(shipped ? "shipped obstacle_course.yaml" : "engine defaults") +
                  (planner ? ", planner on" : ", planner off"));

@@ -31,6 +31,7 @@ void MissionPilot::step(const core::Snapshot& snapshot, core::TimeNs now_ns,
   }
   if (out_->status.holding && !was_holding_) hold_entries_.push_back(now_ns);
   was_holding_ = out_->status.holding;
+  core_->finish_tick();  // as the daemon does once the command is out
 }
 
 bool MissionPilot::camera_wanted() const {
