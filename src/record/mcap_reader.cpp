@@ -127,7 +127,7 @@ std::string unpack_chunk(const ChunkFields& c, std::vector<std::uint8_t>& out) {
     if (c.uncompressed_size > c.records.size() * kMaxZstdRatio) return "chunk too large";
   }
   if (c.compression == "zstd") {
-    const std::string err = decompress_zstd(c.records, c.uncompressed_size, out);
+    std::string err = decompress_zstd(c.records, c.uncompressed_size, out);
     if (!err.empty()) return err;
   } else if (c.compression.empty()) {
     out.assign(c.records.begin(), c.records.end());

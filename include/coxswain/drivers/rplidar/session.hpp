@@ -83,7 +83,7 @@ class RplidarSession final : public DeviceSession {
   /// Samples per revolution below which a revolution is not published (a stalled motor).
   static constexpr std::uint32_t kMinPointsPerRevolution = 16;
   /// Samples a decoder error can reach back before it is noticed: two ultra capsules.
-  static constexpr std::uint64_t kDecodeDelaySamples = 2 * 96;
+  static constexpr std::uint64_t kDecodeDelaySamples = std::uint64_t{2} * 96U;
   /// A-series firmware < 1.17 has no GET_SAMPLERATE; the SDK assumes this (docs/protocols.md 1.5).
   static constexpr double kLegacySampleDurationUs = 476.0;
 

@@ -91,6 +91,7 @@ void BM_PeerScansDrifting(benchmark::State& state) {
     }
   }
   std::vector<const msg::LidarScan*> scans;
+  scans.reserve(drifting.size());
   for (const auto& s : drifting) scans.push_back(s.get());
   if (scans.empty()) {
     state.SkipWithError("peer recording absent (../shared/testdata/peer/)");

@@ -50,7 +50,7 @@ std::uint32_t get_u32(const std::uint8_t* p) {
 }
 
 std::uint16_t angle_q6(double angle_deg) {
-  return static_cast<std::uint16_t>(std::lround(angle_deg * 64.0) % (360 * 64));
+  return static_cast<std::uint16_t>(std::lround(angle_deg * 64.0) % (360L * 64L));
 }
 
 }  // namespace
