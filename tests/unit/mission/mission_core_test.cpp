@@ -698,18 +698,22 @@ TEST(MissionObstacleCourse, ABoatThatMakesNoProgressBacksOffAndThenSailsOn) {
   EXPECT_FALSE(rig->logged("stop, back off, turn")) << rig->log_text();
 }
 
+// A U of closely spaced posts, open toward the boat, across the straight line to a goal 25 m on.
+void add_dead_end(Rig& rig) {
+  for (double e = -3.0; e <= 3.0; e += 0.25) rig.world_buoys.push_back({{12.0, e}, 0.15});
+  for (double n = 7.0; n < 12.0; n += 0.25) {
+    rig.world_buoys.push_back({{n, -3.0}, 0.15});
+    rig.world_buoys.push_back({{n, 3.0}, 0.15});
+  }
+}
+
 TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
   config::Configuration c = base_config(config::TaskType::kObstacleCourse);
   const core::LocalFrame f(c.mission.origin);
   c.mission.tasks[0].waypoints.push_back(f.to_geo({25.0, 0.0}));
   auto rig = std::make_unique<Rig>(c);
   rig->move = true;
-  // A U of closely spaced posts, open toward the boat, across the straight line to the goal.
-  for (double e = -3.0; e <= 3.0; e += 0.25) rig->world_buoys.push_back({{12.0, e}, 0.15});
-  for (double n = 7.0; n < 12.0; n += 0.25) {
-    rig->world_buoys.push_back({{n, -3.0}, 0.15});
-    rig->world_buoys.push_back({{n, 3.0}, 0.15});
-  }
+  add_dead_end(*rig);
   bool entered = false;
   const bool done = rig->run_until(
       [&] {
@@ -735,11 +739,7 @@ TEST(MissionObstacleCourse, TheWorkAfterATickGivesTheSameRunWhereverItIsDone) {
     Rig& r = *rigs[i];
     r.move = true;
     r.finish_after_step = i == 0;
-    for (double e = -3.0; e <= 3.0; e += 0.25) r.world_buoys.push_back({{12.0, e}, 0.15});
-    for (double n = 7.0; n < 12.0; n += 0.25) {
-      r.world_buoys.push_back({{n, -3.0}, 0.15});
-      r.world_buoys.push_back({{n, 3.0}, 0.15});
-    }
+    add_dead_end(r);
   }
   Rig& after = *rigs[0];
   Rig& inline_ = *rigs[1];

@@ -30,6 +30,17 @@ std::vector<std::uint8_t> read_file(const fs::path& p) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// Offset of the first chunk record (opcode 0x06), walking records from after the magic.
+std::size_t first_chunk_at(const std::vector<std::uint8_t>& bytes) {
+  std::size_t at = 8;
+  while (at + 9 <= bytes.size() && bytes[at] != 0x06) {
+    std::uint64_t len = 0;
+    for (std::size_t i = 0; i < 8; ++i) len |= std::uint64_t{bytes[at + 1 + i]} << (8 * i);
+    at += 9 + len;
+  }
+  return at;
+}
+
 std::span<const std::uint8_t> bytes_of(const std::string& s) {
   return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
 }
@@ -215,13 +226,7 @@ TEST(McapReader, ChunkClaimingAHugeUncompressedSizeIsSkippedWithoutAllocatingIt)
     ASSERT_TRUE(w.write_message(ch, 1, 1, bytes_of("PAYLOAD")));
     ASSERT_TRUE(w.close());
     auto bytes = read_file(path);
-    // Walk records from after the magic to the first chunk (opcode 0x06).
-    std::size_t at = 8;
-    while (at + 9 <= bytes.size() && bytes[at] != 0x06) {
-      std::uint64_t len = 0;
-      for (std::size_t i = 0; i < 8; ++i) len |= std::uint64_t{bytes[at + 1 + i]} << (8 * i);
-      at += 9 + len;
-    }
+    const std::size_t at = first_chunk_at(bytes);
     ASSERT_LT(at + 9 + 24, bytes.size());
     const std::uint64_t huge = std::uint64_t{3} << 30U;  // 3 GiB
     for (std::size_t i = 0; i < 8; ++i) {
@@ -255,12 +260,7 @@ TEST(McapReader, CompressedChunkWhoseFramesFallShortOfItsClaimIsRefused) {
     }
     ASSERT_TRUE(w.close());
     auto bytes = read_file(path);
-    std::size_t at = 8;
-    while (at + 9 <= bytes.size() && bytes[at] != 0x06) {
-      std::uint64_t len = 0;
-      for (std::size_t i = 0; i < 8; ++i) len |= std::uint64_t{bytes[at + 1 + i]} << (8 * i);
-      at += 9 + len;
-    }
+    const std::size_t at = first_chunk_at(bytes);
     ASSERT_LT(at + 9 + 24, bytes.size());
     std::uint64_t claimed = 0;
     for (std::size_t i = 0; i < 8; ++i) claimed |= std::uint64_t{bytes[at + 9 + 16 + i]} << (8 * i);
