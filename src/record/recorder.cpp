@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "coxswain/record/recorder.hpp"
 
+#include <pthread.h>
 #include <spdlog/sinks/base_sink.h>
 #include <spdlog/spdlog.h>
 
@@ -395,9 +396,16 @@ bool Recorder::start() {
   accepting_.store(true, std::memory_order_release);
   queues_->log_accepting.store(true, std::memory_order_release);
   sampler_stop_.store(false);
-  thread_ = std::thread([this] { run(); });
+  // Named, so `top -H` and /proc/PID/task show what the recorder costs apart from the rest.
+  thread_ = std::thread([this] {
+    ::pthread_setname_np(::pthread_self(), "cx-rec-writer");
+    run();
+  });
   if (store_ != nullptr && options_.sampler_thread) {
-    sampler_thread_ = std::thread([this] { run_sampler(); });
+    sampler_thread_ = std::thread([this] {
+      ::pthread_setname_np(::pthread_self(), "cx-rec-sampler");
+      run_sampler();
+    });
   }
   return true;
 }

@@ -3,8 +3,9 @@
 # The daemon's footprint at nominal sensor load: devices mode (the unmodified daemon against the
 # device emulators, in real time) on the 2026 course, the daemon's CPU and memory read from /proc
 # while it runs, in three arrangements: no camera and no recording; no camera, recording on (the
-# recorder's share is the difference); the camera at 30 fps, recording on. Prints a table, and
-# with --json FILE writes the rows for tools/bench/perf_page.py.
+# recorder's share is the difference); the camera at 30 fps, recording on. Beside each row, the
+# CPU of the recorder's own threads (named cx-rec-*): the part of the share that is not noise.
+# Prints a table, and with --json FILE writes the rows for tools/bench/perf_page.py.
 #
 #   tools/bench/daemon_load.sh [--build build] [--warmup S] [--measure S] [--json FILE]
 #
@@ -70,6 +71,17 @@ grep -q 'rate_hz: 30.0 *# frames rendered' "$sensors30" ||
   { echo "daemon_load: could not set the camera to 30 fps in a copy of config/sim/sensors.yaml" >&2; exit 1; }
 
 ticks_of() { awk '{print $14 + $15}' "/proc/$1/stat"; }
+# The recorder's own threads (named cx-rec-*): their user + system ticks summed. The comm field
+# of a task's stat may hold spaces only in other programs' names; the recorder's have none.
+recorder_ticks_of() {
+  local sum=0 t
+  for t in /proc/"$1"/task/*; do
+    case "$(cat "$t/comm" 2>/dev/null)" in
+      cx-rec-*) sum=$((sum + $(awk '{print $14 + $15}' "$t/stat"))) ;;
+    esac
+  done
+  echo "$sum"
+}
 kb_of() { awk -v k="$2" '$1 == k":" {print $2}' "/proc/$1/status"; }
 
 rows=()
@@ -96,29 +108,32 @@ run_row() {  # label camera record
   mcap=$(find "$run_dir" -name '*.mcap' 2>/dev/null | head -1)
   local size0=0
   [ -n "$mcap" ] && size0=$(stat -c %s "$mcap")
-  local t0 c0 rss_max=0 rss
+  local t0 c0 r0 rss_max=0 rss
   t0=$(date +%s.%N)
   c0=$(ticks_of "$pid")
+  r0=$(recorder_ticks_of "$pid")
   for _ in $(seq 1 "$measure_s"); do
     sleep 1
     rss=$(kb_of "$pid" VmRSS)
     [ "$rss" -gt "$rss_max" ] && rss_max=$rss
   done
-  local c1 t1 hwm size1=0
+  local c1 r1 t1 hwm size1=0
   c1=$(ticks_of "$pid")
+  r1=$(recorder_ticks_of "$pid")
   t1=$(date +%s.%N)
   hwm=$(kb_of "$pid" VmHWM)
   [ -z "$mcap" ] && mcap=$(find "$run_dir" -name '*.mcap' 2>/dev/null | head -1)
   [ -n "$mcap" ] && size1=$(stat -c %s "$mcap")
   kill "$sim_pid" 2>/dev/null || true
   wait "$sim_pid" 2>/dev/null || true
-  local cpu rss_mb hwm_mb mb_per_10min
+  local cpu rec_cpu rss_mb hwm_mb mb_per_10min
   cpu=$(awk -v c="$((c1 - c0))" -v hz="$hz" -v t0="$t0" -v t1="$t1" 'BEGIN {printf "%.2f", 100 * c / hz / (t1 - t0)}')
+  rec_cpu=$(awk -v c="$((r1 - r0))" -v hz="$hz" -v t0="$t0" -v t1="$t1" 'BEGIN {printf "%.2f", 100 * c / hz / (t1 - t0)}')
   rss_mb=$(awk -v k="$rss_max" 'BEGIN {printf "%.1f", k / 1024}')
   hwm_mb=$(awk -v k="$hwm" 'BEGIN {printf "%.1f", k / 1024}')
   mb_per_10min=$(awk -v d="$((size1 - size0))" -v t0="$t0" -v t1="$t1" -v r="$record" 'BEGIN {if (r == 0) print "-"; else printf "%.1f", d / (t1 - t0) * 600 / 1e6}')
-  rows+=("$label|$cpu|$rss_mb|$hwm_mb|$mb_per_10min")
-  echo "daemon_load: $label: cpu ${cpu}%, rss ${rss_mb} MB (high-water ${hwm_mb} MB), recording ${mb_per_10min} MB/10 min" >&2
+  rows+=("$label|$cpu|$rss_mb|$hwm_mb|$mb_per_10min|$rec_cpu")
+  echo "daemon_load: $label: cpu ${cpu}% (recorder threads ${rec_cpu}%), rss ${rss_mb} MB (high-water ${hwm_mb} MB), recording ${mb_per_10min} MB/10 min" >&2
 }
 
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
@@ -127,26 +142,26 @@ run_row "no camera, recording on" 0 1
 run_row "camera 30 fps, recording on" 1 1
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
 
-echo "| arrangement | daemon CPU (% of a core) | RSS max (MB) | RSS high-water (MB) | recording (MB per 10 min) |"
-echo "| --- | --- | --- | --- | --- |"
+echo "| arrangement | daemon CPU (% of a core) | of it the recorder's threads | RSS max (MB) | RSS high-water (MB) | recording (MB per 10 min) |"
+echo "| --- | --- | --- | --- | --- | --- |"
 for r in "${rows[@]}"; do
-  IFS='|' read -r label cpu rss hwm mb <<< "$r"
-  echo "| $label | $cpu | $rss | $hwm | $mb |"
+  IFS='|' read -r label cpu rss hwm mb rec <<< "$r"
+  echo "| $label | $cpu | $rec | $rss | $hwm | $mb |"
 done
-IFS='|' read -r _ cpu_off _ _ _ <<< "${rows[0]}"
-IFS='|' read -r _ cpu_on _ _ _ <<< "${rows[1]}"
+IFS='|' read -r _ cpu_off _ _ _ _ <<< "${rows[0]}"
+IFS='|' read -r _ cpu_on _ _ _ rec_on <<< "${rows[1]}"
 share=$(awk -v a="$cpu_on" -v b="$cpu_off" 'BEGIN {printf "%.2f", a - b}')
 echo
-echo "Recorder's share (recording on minus off, no camera): $share % of a core. Load average before / after: $load_before / $load_after. Window: ${measure_s} s after ${warmup_s} s."
+echo "Recorder's share (recording on minus off, no camera): $share % of a core; its own threads: $rec_on %. Load average before / after: $load_before / $load_after. Window: ${measure_s} s after ${warmup_s} s."
 
 if [ -n "$json_out" ]; then
   {
-    echo "{\"load_before\": \"$load_before\", \"load_after\": \"$load_after\", \"measure_s\": $measure_s, \"warmup_s\": $warmup_s, \"recorder_share_pct\": $share, \"rows\": ["
+    echo "{\"load_before\": \"$load_before\", \"load_after\": \"$load_after\", \"measure_s\": $measure_s, \"warmup_s\": $warmup_s, \"recorder_share_pct\": $share, \"recorder_threads_pct\": $rec_on, \"rows\": ["
     sep=""
     for r in "${rows[@]}"; do
-      IFS='|' read -r label cpu rss hwm mb <<< "$r"
+      IFS='|' read -r label cpu rss hwm mb rec <<< "$r"
       [ "$mb" = "-" ] && mb=null
-      echo "$sep{\"label\": \"$label\", \"cpu_pct\": $cpu, \"rss_mb\": $rss, \"rss_hwm_mb\": $hwm, \"recording_mb_per_10min\": $mb}"
+      echo "$sep{\"label\": \"$label\", \"cpu_pct\": $cpu, \"recorder_threads_pct\": $rec, \"rss_mb\": $rss, \"rss_hwm_mb\": $hwm, \"recording_mb_per_10min\": $mb}"
       sep=","
     done
     echo "]}"

@@ -198,6 +198,12 @@ def daemon_rows(args):
         shown = "-" if value is None else f"{value}{unit}"
         out.append(f"| {label} | {shown} | {target} | {'met' if ok else 'not met'} |")
     out.append("")
+    if d.get("recorder_threads_pct") is not None:
+        out.append(f"Of the recorder's share, its own threads (writer and store sampler, "
+                   f"`cx-rec-*` in /proc) used {d['recorder_threads_pct']}% of a core; the rest "
+                   f"of the difference is the queues' producers and the machine's noise between "
+                   f"two runs.")
+        out.append("")
     out.append("Every arrangement as measured (CPU from /proc/PID/stat over the window, RSS sampled "
                "each second, high-water from VmHWM):")
     out.append("")

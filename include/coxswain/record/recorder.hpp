@@ -90,9 +90,12 @@ struct RecorderOptions {
   core::TimeNs chunk_period_ns = core::kNsPerSec;  // a crash loses at most about this much
   std::size_t chunk_size_bytes = 4U << 20U;
   int zstd_level = 3;
-  bool sync = true;                                 // fdatasync every closed chunk
-  core::TimeNs idle_sleep_ns = 2 * core::kNsPerMs;  // writer thread nap when all queues are empty
-  core::TimeNs sample_period_ns = core::kNsPerMs;   // store sampler poll period
+  bool sync = true;  // fdatasync every closed chunk
+  // Each wake of the two threads costs a few microseconds of a core (a context switch, more in
+  // a VM) whatever it finds, so they wake no more often than the data needs: the writer's queues
+  // hold seconds, and the fastest stream the store takes (100 Hz) is 10 ms apart.
+  core::TimeNs idle_sleep_ns = 10 * core::kNsPerMs;  // writer thread nap when all queues are empty
+  core::TimeNs sample_period_ns = 2 * core::kNsPerMs;  // store sampler poll period
   // false: no sampler thread; the owner calls sample() after every store update instead (the
   // simulator, whose virtual time outruns any polling thread, so no value is ever overwritten).
   bool sampler_thread = true;
