@@ -239,7 +239,10 @@ class Avoidance {
     double hi_cos = 1.0;  // direction of its last bin
     double hi_sin = 0.0;
     double radius_m = 0.0;  // farthest arc end of the block from origin
-    bool wedge = false;     // the directions turn one way through the block (test usable)
+    // How far past its arc end a return can still lower a capped range of the block: the
+    // detection range less the block's shortest arc (at least 0).
+    double ahead_m = 0.0;
+    bool wedge = false;  // the directions turn one way through the block (test usable)
   };
   std::array<BinBlock, AngleBins::kMaxBins / kBlockBins + 1> blocks_{};
   std::size_t block_count_ = 0;

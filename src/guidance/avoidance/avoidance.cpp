@@ -336,13 +336,16 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
     blk.hi_sin = arc_sin_[j1];
     blk.radius_m = 0.0;
     blk.wedge = blk.lo_cos * blk.hi_cos + blk.lo_sin * blk.hi_sin > 0.0;
+    double shortest_arc_m = arc_len_m_[j0];
     for (std::size_t j = j0; j <= j1; ++j) {
+      shortest_arc_m = std::min(shortest_arc_m, arc_len_m_[j]);
       blk.radius_m = std::max(blk.radius_m, std::hypot(arc_end_f_m_[j] - blk.origin_f_m,
                                                        arc_end_s_m_[j] - blk.origin_s_m));
       const double from_lo = blk.lo_cos * arc_sin_[j] - blk.lo_sin * arc_cos_[j];
       const double to_hi = arc_cos_[j] * blk.hi_sin - arc_sin_[j] * blk.hi_cos;
       if (from_lo < -1e-12 || to_hi < -1e-12) blk.wedge = false;
     }
+    blk.ahead_m = std::max(0.0, params.detection_range_m - shortest_arc_m);
   }
   // The swept hull's poses, step by step, with the same arithmetic the check used to do per
   // call (so the same turns come out).
@@ -709,6 +712,15 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     const V2d v_zero = splat2(0.0);
     for (std::size_t b = 0; b < block_count_; ++b) {
       const BinBlock& blk = blocks_[b];
+      if (capped) {
+        // A bin lowered by the segment has its middle within `lateral` of the corridor's centre
+        // line, between `behind` and ahead_m + near_back along it from the bin's arc end: within
+        // their sum of that arc end, so within that plus radius_m of the block's origin.
+        const double qf = mid_f - blk.origin_f_m;
+        const double qs = mid_s - blk.origin_s_m;
+        const double bound = blk.ahead_m + near_back + lateral + blk.radius_m + kCullEps;
+        if (qf * qf + qs * qs > bound * bound) continue;
+      }
       if (blk.wedge) {
         const double qf = mid_f - blk.origin_f_m;
         const double qs = mid_s - blk.origin_s_m;
