@@ -207,13 +207,14 @@ def daemon_rows(args):
     out.append("Every arrangement as measured (CPU from /proc/PID/stat over the window, RSS sampled "
                "each second, high-water from VmHWM):")
     out.append("")
-    out.append("| arrangement | CPU (% of a core) | RSS max MB | RSS high-water MB | "
-               "recording MB per 10 min |")
-    out.append("| --- | --- | --- | --- | --- |")
+    out.append("| arrangement | CPU (% of a core) | of it the recorder's threads | RSS max MB | "
+               "RSS high-water MB | recording MB per 10 min |")
+    out.append("| --- | --- | --- | --- | --- | --- |")
     for r in d["rows"]:
         mb = r.get("recording_mb_per_10min")
-        out.append(f"| {r['label']} | {r['cpu_pct']} | {r['rss_mb']} | {r['rss_hwm_mb']} | "
-                   f"{'-' if mb is None else mb} |")
+        rec = r.get("recorder_threads_pct")
+        out.append(f"| {r['label']} | {r['cpu_pct']} | {'-' if rec is None else rec} | "
+                   f"{r['rss_mb']} | {r['rss_hwm_mb']} | {'-' if mb is None else mb} |")
     out.append("")
     return out, met, len(checks)
 
