@@ -199,10 +199,10 @@ def daemon_rows(args):
         out.append(f"| {label} | {shown} | {target} | {'met' if ok else 'not met'} |")
     out.append("")
     if d.get("recorder_threads_pct") is not None:
-        out.append(f"Of the recorder's share, its own threads (writer and store sampler, "
-                   f"`cx-rec-*` in /proc) used {d['recorder_threads_pct']}% of a core; the rest "
-                   f"of the difference is the queues' producers and the machine's noise between "
-                   f"two runs.")
+        out.append(f"The recorder's own threads (writer and store sampler, `cx-rec-*` in "
+                   f"/proc) used {d['recorder_threads_pct']}% of a core with recording on. The "
+                   f"share above also holds the producers' work on the queues and the noise "
+                   f"between two runs of the daemon, so it can come out above or below that.")
         out.append("")
     out.append("Every arrangement as measured (CPU from /proc/PID/stat over the window, RSS sampled "
                "each second, high-water from VmHWM):")
@@ -234,6 +234,7 @@ def main():
     lines = []
     met = 0
     checked = 0
+    noise = []  # (work us, median, p99) of the machine's fixed-work rows
     for prog, flt, label, target, checks, *rest in ROWS:
         prefix = rest[0] if rest else ""
         b, err, load = run_row(args.build, prog, flt, args.min_time)
@@ -244,6 +245,8 @@ def main():
             continue
         p50 = b.get(prefix + "p50_us")
         p99 = b.get(prefix + "p99_us")
+        if prog.endswith("bench_machine_noise") and p50 is not None and p99 is not None:
+            noise.append((flt.split(":")[1].rstrip("$"), p50, p99))
         cpu = b.get("cpu_time")
         unit = b.get("time_unit", "ns")
         cpu_us = (cpu if unit == "us" else cpu / 1000.0 if unit == "ns"
@@ -273,6 +276,8 @@ def main():
     met += daemon_met
     checked += daemon_checked
 
+    noise_text = ", ".join(f"{p99 - p50:.1f} us above its median at {work} us of work"
+                           for work, p50, p99 in noise) or "(not measured)"
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     cpu_name = platform.processor() or platform.machine()
     page = [
@@ -289,9 +294,10 @@ def main():
         "a step of a sequence replayed from the same start pass after pass) is timed many "
         "times, its cost is its least time, and the p99 is taken over the inputs. The first "
         "two rows show why: a fixed piece of arithmetic, the same instructions every call, "
-        "has a p99 some 40 us above its median on this virtual machine (interrupts, the "
-        "hypervisor, the neighbours), so the plain p99 of any call of 10 us or more is mostly "
-        "the machine's. The input p99 keeps what the code costs on its dearest inputs (a "
+        f"has a p99 {noise_text} on this virtual machine in this run (interrupts, the "
+        "hypervisor, the neighbours; other runs and machines of this kind have shown some "
+        "40 us), and what the machine adds is no part of the code's cost. The input p99 "
+        "keeps what the code costs on its dearest inputs (a "
         "replan comes back in every pass) and drops what the machine adds to one call in a "
         "hundred; the p99 targets are checked on it, both figures are shown. A mission step is "
         "timed apart from the work it leaves for after its command (MissionCore::finish_tick: "
