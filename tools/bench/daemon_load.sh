@@ -71,13 +71,15 @@ grep -q 'rate_hz: 30.0 *# frames rendered' "$sensors30" ||
   { echo "daemon_load: could not set the camera to 30 fps in a copy of config/sim/sensors.yaml" >&2; exit 1; }
 
 ticks_of() { awk '{print $14 + $15}' "/proc/$1/stat"; }
-# The recorder's own threads (named cx-rec-*): their user + system ticks summed. The comm field
-# of a task's stat may hold spaces only in other programs' names; the recorder's have none.
+# The recorder's own threads (named cx-rec-*, no spaces, so stat's fields split as for the
+# process): their user + system ticks summed; a thread gone between two reads counts 0.
 recorder_ticks_of() {
-  local sum=0 t
+  local sum=0 t ticks
   for t in /proc/"$1"/task/*; do
     case "$(cat "$t/comm" 2>/dev/null)" in
-      cx-rec-*) sum=$((sum + $(awk '{print $14 + $15}' "$t/stat"))) ;;
+      cx-rec-*)
+        ticks=$(awk '{print $14 + $15}' "$t/stat" 2>/dev/null || true)
+        sum=$((sum + ${ticks:-0})) ;;
     esac
   done
   echo "$sum"

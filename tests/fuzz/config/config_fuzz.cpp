@@ -5,7 +5,7 @@
 // the simulator use. One loader per input, not all of them: each parses the file afresh, so all
 // of them on every input made each input cost eight parses and the long run reach an eighth as
 // far; libFuzzer's mutations change the first byte like any other, so every loader is fed.
-// Contract: no crash, no exception escapes, and a refused file always says why.
+// Contract: no crash and no exception escapes; read as plain YAML, a refused file says why.
 #include <unistd.h>
 
 #include <cstddef>
