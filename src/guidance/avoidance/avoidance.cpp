@@ -712,18 +712,16 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     const V2d v_zero = splat2(0.0);
     for (std::size_t b = 0; b < block_count_; ++b) {
       const BinBlock& blk = blocks_[b];
+      const double qf = mid_f - blk.origin_f_m;  // the segment's middle from the block's origin
+      const double qs = mid_s - blk.origin_s_m;
       if (capped) {
         // A bin lowered by the segment has its middle within `lateral` of the corridor's centre
         // line, between `behind` and ahead_m + near_back along it from the bin's arc end: within
         // their sum of that arc end, so within that plus radius_m of the block's origin.
-        const double qf = mid_f - blk.origin_f_m;
-        const double qs = mid_s - blk.origin_s_m;
         const double bound = blk.ahead_m + near_back + lateral + blk.radius_m + kCullEps;
         if (qf * qf + qs * qs > bound * bound) continue;
       }
       if (blk.wedge) {
-        const double qf = mid_f - blk.origin_f_m;
-        const double qs = mid_s - blk.origin_s_m;
         const double margin = blk.radius_m + lateral;
         if (blk.lo_cos * qs - blk.lo_sin * qf < -margin) continue;  // to port of the wedge
         if (blk.hi_cos * qs - blk.hi_sin * qf > margin) continue;   // to starboard of it

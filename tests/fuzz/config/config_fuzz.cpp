@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "coxswain/config/config.hpp"
@@ -32,72 +33,43 @@ const std::string& scratch_path() {
   return path;
 }
 
-template <class Load>
-void load(const std::string& path, Load fn) {
-  coxswain::config::ConfigErrors errors;
-  fn(path, errors);
-}
+namespace cfg = coxswain::config;
+using Loader = void (*)(const std::string& path, cfg::ConfigErrors& errors);
 
+// Every loader, as the first byte of an input picks it.
+constexpr Loader kLoaders[] = {
+    [](const std::string& p, cfg::ConfigErrors& e) {
+      if (!cfg::load_yaml_file(p, e) && e.empty()) std::abort();  // refused without a reason
+      cfg::ConfigErrors kind_errors;
+      (void)cfg::detect_config_kind(p, kind_errors);
+    },
+    [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_boat_config(p, e); },
+    [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_devices_config(p, e); },
+    [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_mission_config(p, e); },
+    [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_vision_file(p, e); },
 #ifdef COXSWAIN_FUZZ_SIM
-constexpr std::uint8_t kLoaderCount = 7;
-#else
-constexpr std::uint8_t kLoaderCount = 5;
+    [](const std::string& p, cfg::ConfigErrors& e) {
+      (void)coxswain::sim::world::load_course(p, e);
+    },
+    [](const std::string& p, cfg::ConfigErrors& e) {
+      (void)coxswain::sim::sensors::load_sensor_config_file(p, e);
+    },
 #endif
+};
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  namespace cfg = coxswain::config;
   if (size == 0) return 0;
-  const std::uint8_t kind = data[0];
+  const Loader load = kLoaders[data[0] % std::size(kLoaders)];
   const std::string& path = scratch_path();
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
   }
   try {
-    switch (kind % kLoaderCount) {
-      case 0: {
-        cfg::ConfigErrors errors;
-        if (!cfg::load_yaml_file(path, errors) && errors.empty()) std::abort();
-        load(path, [](const std::string& p, cfg::ConfigErrors& e) {
-          (void)cfg::detect_config_kind(p, e);
-        });
-        break;
-      }
-      case 1:
-        load(path,
-             [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_boat_config(p, e); });
-        break;
-      case 2:
-        load(path, [](const std::string& p, cfg::ConfigErrors& e) {
-          (void)cfg::load_devices_config(p, e);
-        });
-        break;
-      case 3:
-        load(path, [](const std::string& p, cfg::ConfigErrors& e) {
-          (void)cfg::load_mission_config(p, e);
-        });
-        break;
-      case 4:
-        load(path,
-             [](const std::string& p, cfg::ConfigErrors& e) { (void)cfg::load_vision_file(p, e); });
-        break;
-#ifdef COXSWAIN_FUZZ_SIM
-      case 5:
-        load(path, [](const std::string& p, cfg::ConfigErrors& e) {
-          (void)coxswain::sim::world::load_course(p, e);
-        });
-        break;
-      case 6:
-        load(path, [](const std::string& p, cfg::ConfigErrors& e) {
-          (void)coxswain::sim::sensors::load_sensor_config_file(p, e);
-        });
-        break;
-#endif
-      default:
-        break;
-    }
+    cfg::ConfigErrors errors;
+    load(path, errors);
   } catch (...) {
     std::abort();  // the loaders collect errors; nothing may throw
   }

@@ -46,9 +46,7 @@ namespace coxswain::mission::test {
 namespace {
 
 TEST(MissionAllocation, StepDoesNotAllocate) {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  config::Configuration c = obstacle_config();
   auto rig = std::make_unique<Rig>(c);
   rig->move = true;
   add_circle(rig->scan, 10.0, 0.5, 0.5);
@@ -112,9 +110,7 @@ TEST(MissionAllocation, MappingPlanningAndGateJudgingDoNotAllocate) {
 // A live parameter set applied between two steps may allocate (the clusterer's buffers, an
 // operator action); the steps after it must not.
 TEST(MissionAllocation, StepsAfterALiveParameterChangeDoNotAllocate) {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  config::Configuration c = obstacle_config();
   auto rig = std::make_unique<Rig>(c);
   rig->move = true;
   add_circle(rig->scan, 10.0, 0.5, 0.5);

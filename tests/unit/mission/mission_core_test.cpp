@@ -31,13 +31,6 @@ config::Configuration hopping_config() {
   return c;
 }
 
-config::Configuration obstacle_config() {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
-  return c;
-}
-
 msg::Detection detection(msg::Colour colour, msg::Shape shape, float bearing_deg) {
   msg::Detection d;
   d.colour = colour;
@@ -708,9 +701,7 @@ void add_dead_end(Rig& rig) {
 }
 
 TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({25.0, 0.0}));
+  config::Configuration c = obstacle_config(25.0);
   auto rig = std::make_unique<Rig>(c);
   rig->move = true;
   add_dead_end(*rig);
@@ -730,9 +721,7 @@ TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
 // way) or as the next step begins (lockstep and replay): every command, state and drawn path
 // is the same, bit for bit, tick by tick, through a course that needs many replans.
 TEST(MissionObstacleCourse, TheWorkAfterATickGivesTheSameRunWhereverItIsDone) {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({25.0, 0.0}));
+  config::Configuration c = obstacle_config(25.0);
   std::array<std::unique_ptr<Rig>, 2> rigs;
   for (std::size_t i = 0; i < rigs.size(); ++i) {
     rigs[i] = std::make_unique<Rig>(c);
@@ -770,9 +759,7 @@ TEST(MissionObstacleCourse, TheWorkAfterATickGivesTheSameRunWhereverItIsDone) {
 // The step leaves the scan's map update for after it: the map holds the new scan's hits only
 // once finish_tick() has run (or the next step has begun).
 TEST(MissionObstacleCourse, AStepLeavesItsScanForTheMapUntilTheTickIsFinished) {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo({40.0, 0.0}));
+  config::Configuration c = obstacle_config();
   auto rig = std::make_unique<Rig>(c);
   rig->finish_after_step = true;
   rig->run_for(1.0);

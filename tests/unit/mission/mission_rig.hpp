@@ -38,6 +38,14 @@ inline config::Configuration base_config(config::TaskType type) {
   return c;
 }
 
+/// The obstacle course to one waypoint `goal_north_m` due north of the origin.
+inline config::Configuration obstacle_config(double goal_north_m = 40.0) {
+  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
+  const core::LocalFrame f(c.mission.origin);
+  c.mission.tasks[0].waypoints.push_back(f.to_geo({goal_north_m, 0.0}));
+  return c;
+}
+
 /// Body-frame lidar returns of a circle (buoy) of `radius_m` at (forward, starboard).
 inline void add_circle(msg::LidarScan& scan, double forward_m, double starboard_m,
                        double radius_m) {

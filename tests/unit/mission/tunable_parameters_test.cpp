@@ -28,13 +28,6 @@ config::Configuration hopping(double north_m = 30.0) {
   return c;
 }
 
-config::Configuration obstacle() {
-  config::Configuration c = base_config(config::TaskType::kObstacleCourse);
-  const core::LocalFrame f(c.mission.origin);
-  c.mission.tasks[0].waypoints.push_back(f.to_geo(core::NavPoint{40.0, 0.0}));
-  return c;
-}
-
 TEST(TunableParameters, RangesWholeNumbersAndTheEnginesChecks) {
   TunableParameters p;
   const double kp = p.heading_pid.kp_per_deg;
@@ -144,7 +137,7 @@ TEST(MissionCoreParameters, ApplyRejectsInvalidSetsAndKeepsTheOldOne) {
 }
 
 TEST(MissionCoreParameters, FieldsWithoutANameAreNotTakenFromTheSet) {
-  const config::Configuration obs = obstacle();
+  const config::Configuration obs = obstacle_config();
   MissionCore core(obs.boat, obs.mission);
   TunableParameters p = core.parameters();
   const double fan_min = p.avoidance.fan.min_deg;
@@ -181,7 +174,7 @@ TEST(MissionCoreParameters, AShorterDetectionRangeIgnoresABuoyTheLongerOneAvoids
   // A buoy 4 m ahead on the line to the gate: avoided at the default 5 m detection range, ignored
   // (steered straight at the goal) once the operator shortens the range to 2 m.
   auto make = [] {
-    auto rig = std::make_unique<Rig>(obstacle());
+    auto rig = std::make_unique<Rig>(obstacle_config());
     rig->world_buoys.push_back({{4.0, 0.2}, 0.5});
     return rig;
   };
