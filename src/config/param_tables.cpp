@@ -850,6 +850,17 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::stuck_distance_m>(
         "planner.stuck_distance_m", "m", 0.01, 20.0, kFixed,
         "progress: moving this far from where the boat was"),
+    bool_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_enabled>(
+        "planner.astern_enabled", kFixed,
+        "back along the path, stern first, when its sub-goal is behind and the turn has no room"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_behind_deg>(
+        "planner.astern_behind_deg", "deg", 90.0, 180.0, kFixed,
+        "the sub-goal counts as behind this far off the bow"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_look_m>(
+        "planner.astern_look_m", "m", 0.0, 5.0, kFixed,
+        "astern only while this much water behind the stern is clear"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_max_m>(
+        "planner.astern_max_m", "m", 0.0, 50.0, kFixed, "at most this far astern at a time"),
     bool_param<PlanningConfig, &PlanningConfig::gates, &GateParams::judge_by_lidar>(
         "gates.judge_by_lidar", kFixed,
         "a gate is passed when the track crosses between its buoys as the lidar places them"),

@@ -101,9 +101,12 @@ msg::ActuatorCommand ActuatorMixer::mix(MixDemand d, core::TimeNs stamp_ns,
   det.saturated = turn != d.turn || thrust != d.thrust;
 
   if (c_.layout == msg::ActuatorLayout::kServoThruster) {
-    cmd.pulse_us = {servo_pulse_us(turn * c_.servo.max_deflection_deg),
+    // Astern the turned thruster pulls the stern the other way: the deflection is mirrored so
+    // a turn demand keeps its sense (a heading held astern stays held).
+    const double deflect = thrust < 0.0 ? -turn : turn;
+    cmd.pulse_us = {servo_pulse_us(deflect * c_.servo.max_deflection_deg),
                     thruster_pulse_us(c_.thruster, thrust)};
-    det.channel_frac = {turn, thrust};
+    det.channel_frac = {deflect, thrust};
   } else {
     const TwinConfig& t = c_.twin;
     const double v_mps = thrust * t.max_speed_mps;

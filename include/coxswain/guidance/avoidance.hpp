@@ -151,6 +151,16 @@ class Avoidance {
                                          double goal_bearing_body_deg, core::TimeNs now);
   /// Forgets the previous choice (new mission leg).
   void reset();
+  /// Largest turn, up to `turn_deg` (at most 180), that the swept hull allows to `side`, tested
+  /// on `obstacles`, which must be the list the last decide() saw. Beyond the fan's extent too:
+  /// for a manoeuvre (a turn back along a path) rather than a bin. `turn_deg` when the sweep is
+  /// off (nothing to tell).
+  [[nodiscard]] double turn_room_deg(const perception::ObstacleList& obstacles, Side side,
+                                     double turn_deg);
+  /// Least distance from the obstacles to the water astern: a box the hull's width and `look_m`
+  /// long behind the stern. AngleBins::kNoObstacle when nothing is near it.
+  [[nodiscard]] double astern_room_m(const perception::ObstacleList& obstacles,
+                                     double look_m) const;
 
   [[nodiscard]] const AvoidanceParams& params() const { return params_; }
   [[nodiscard]] const AngleBins& bins() const { return bins_; }
@@ -165,6 +175,10 @@ class Avoidance {
   // Largest allowed turn on one side (side 0 = port, 1 = starboard) over the segments that
   // compute_sweep() gathered.
   [[nodiscard]] double sweep_turn_limit(const perception::ObstacleList& obstacles, int side);
+  // The first of the side's first `steps` steps at which a gathered segment comes within its
+  // room of the hull box; `steps` when none does.
+  [[nodiscard]] std::size_t first_sweep_hit(const perception::ObstacleList& obstacles, int side,
+                                            std::size_t steps);
   // Fills range_m_: per bin, how far the boat sails along its predicted path (the arc to the
   // bin's heading, then straight) before an obstacle comes within half_beam_m + clearance_m of
   // the centre line; the bins' straight-ray range when the sweep is off.
@@ -207,7 +221,8 @@ class Avoidance {
   // from it never meet the hull box's (plus the room) cannot be touched at any step.
   static constexpr std::size_t kMaxSweepSteps = 361;  // 180 deg in sweep_step_deg >= 0.5
   struct SweepSide {
-    std::size_t steps = 0;
+    std::size_t steps = 0;      // the steps within max_turn_deg (the fan's extent)
+    std::size_t all_steps = 0;  // the steps of a turn of 180 deg
     double max_turn_deg = 0.0;
     double centre_f_m = 0.0;  // turning centre
     double centre_s_m = 0.0;

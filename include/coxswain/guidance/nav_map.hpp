@@ -90,6 +90,15 @@ struct MapPlannerParams {
   // and turns toward its path (the stop/back-off/look times above). 0 s: never.
   double stuck_s = 5.0;
   double stuck_distance_m = 0.5;
+  // Astern along the path: when the path's sub-goal lies more than astern_behind_deg off the
+  // bow and the swept hull cannot turn to it (a pocket narrower than the turning circle), the
+  // boat backs toward it stern first at back_off_thrust_frac, while astern_look_m of water
+  // behind the stern stays clear, until the turn is free, the sub-goal comes round or it has
+  // backed astern_max_m.
+  bool astern_enabled = true;
+  double astern_behind_deg = 110.0;
+  double astern_look_m = 0.6;
+  double astern_max_m = 8.0;
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
@@ -237,6 +246,10 @@ class MapPlanner {
   /// As above, coming nearer down to `nearest_m` along the path for a clear straight line.
   [[nodiscard]] std::optional<core::NavPoint> subgoal(core::NavPoint position,
                                                       double nearest_m) const;
+  /// The point `ahead_m` along the path past the point of it nearest `position` (the path's end
+  /// when that is nearer), whether or not the boat sees it on a straight line.
+  [[nodiscard]] std::optional<core::NavPoint> along_path(core::NavPoint position,
+                                                         double ahead_m) const;
   [[nodiscard]] GridView view() const;
   [[nodiscard]] const MapPlannerParams& params() const { return params_; }
 

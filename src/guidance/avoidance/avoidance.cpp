@@ -368,9 +368,11 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
         w.box_far_m = std::max(w.box_far_m, std::hypot(cf - w.centre_f_m, cs - w.centre_s_m));
       }
     }
+    // Steps through a half turn: those within the fan's extent serve the bins, the rest a
+    // manoeuvre's turn back (turn_room_deg).
     w.steps = 0;
-    if (extent <= 0.0) continue;
-    for (double a_deg = step; a_deg <= w.max_turn_deg + 1e-9 && w.steps < kMaxSweepSteps;
+    w.all_steps = 0;
+    for (double a_deg = step; a_deg <= 180.0 + 1e-9 && w.all_steps < kMaxSweepSteps;
          a_deg += step) {
       const double a = core::deg_to_rad(a_deg);
       const double c = std::cos(a);
@@ -378,7 +380,8 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
       // The pivot on its circle, then the body origin p behind it along the new heading.
       const double of = p + radius * std::sin(a) - p * c;
       const double os = side_sign * radius * (1.0 - c) - p * sn;
-      const std::size_t k = w.steps++;
+      const std::size_t k = w.all_steps++;
+      if (a_deg <= w.max_turn_deg + 1e-9) w.steps = w.all_steps;
       w.a_deg[k] = a_deg;
       w.cos[k] = c;
       w.sin[k] = sn;
@@ -577,8 +580,51 @@ void Avoidance::fill_danger(AvoidanceDecision& out, double limit_m) const {
 double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, int side) {
   const SweepSide& w = sweep_sides_[static_cast<std::size_t>(side)];
   if (w.max_turn_deg <= 0.0) return 0.0;
+  if (sweep_count_ == 0) return w.max_turn_deg;
+  const std::size_t first_hit = first_sweep_hit(obstacles, side, w.steps);
+  return first_hit < w.steps ? w.a_deg[first_hit] - params_.sweep_step_deg : w.max_turn_deg;
+}
+
+double Avoidance::turn_room_deg(const perception::ObstacleList& obstacles, Side side,
+                                double turn_deg) {
+  turn_deg = std::clamp(turn_deg, 0.0, 180.0);
+  if (!params_.sweep_enabled || side == Side::kNone) return turn_deg;
+  const int s = side == Side::kPort ? 0 : 1;
+  const SweepSide& w = sweep_sides_[static_cast<std::size_t>(s)];
+  // The steps the turn needs: up to the first at or past turn_deg.
+  std::size_t steps = 0;
+  while (steps < w.all_steps && w.a_deg[steps] < turn_deg - 1e-9) ++steps;
+  if (steps < w.all_steps) ++steps;
+  const std::size_t first_hit = first_sweep_hit(obstacles, s, steps);
+  if (first_hit >= steps) return turn_deg;
+  return std::max(0.0, w.a_deg[first_hit] - params_.sweep_step_deg);
+}
+
+double Avoidance::astern_room_m(const perception::ObstacleList& obstacles, double look_m) const {
+  const double stern_m = params_.bow_ahead_m - params_.hull_length_m;
+  const HullBox box{stern_m - std::max(0.0, look_m), stern_m, params_.half_beam_m};
+  double least_m = AngleBins::kNoObstacle;
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const auto& seg = obstacles.segments[k];
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double bf = seg.end.forward_m;
+    const double bs = seg.end.starboard_m;
+    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
+      continue;
+    }
+    least_m = std::min(least_m, segment_box_distance(af, as, bf, bs, box));
+  }
+  return least_m;
+}
+
+std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles, int side,
+                                       std::size_t steps) {
+  const SweepSide& w = sweep_sides_[static_cast<std::size_t>(side)];
   const std::size_t gathered = sweep_count_;
-  if (gathered == 0) return w.max_turn_deg;
+  if (gathered == 0) return steps;
   const HullBox box{params_.bow_ahead_m - params_.hull_length_m, params_.bow_ahead_m,
                     params_.half_beam_m};
   // The turn is a rotation about the turning centre: keep the segments whose distances from it
@@ -604,7 +650,7 @@ double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, in
   // The first step at which any of them comes within its room of the hull box: each segment is
   // stepped through only up to the first hit found so far (the answer is the least step over
   // the segments, whatever their order), the box-centre distance tested two steps at a time.
-  std::size_t first_hit = w.steps;
+  std::size_t first_hit = steps;
   for (std::size_t m = 0; m < n; ++m) {
     const std::size_t i = side_index_[m];
     const auto& seg = obstacles.segments[sweep_index_[i]];
@@ -662,7 +708,7 @@ double Avoidance::sweep_turn_limit(const perception::ObstacleList& obstacles, in
       first_hit = k;
     }
   }
-  return first_hit < w.steps ? w.a_deg[first_hit] - params_.sweep_step_deg : w.max_turn_deg;
+  return first_hit;
 }
 
 void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {

@@ -77,6 +77,12 @@ std::optional<std::string> MapPlannerParams::validate() const {
   if (!finite_nonneg(stuck_s) || !finite_pos(stuck_distance_m)) {
     return "planner: stuck_s >= 0 and stuck_distance_m > 0";
   }
+  if (!std::isfinite(astern_behind_deg) || astern_behind_deg < 90.0 || astern_behind_deg > 180.0) {
+    return "planner: astern_behind_deg in [90, 180]";
+  }
+  if (!finite_nonneg(astern_look_m) || !finite_nonneg(astern_max_m)) {
+    return "planner: astern_look_m and astern_max_m >= 0";
+  }
   return {};
 }
 
@@ -759,27 +765,44 @@ double MapPlanner::seen_ahead_m(const NavMap& map, core::NavPoint position, doub
   return limit_m;
 }
 
+namespace {
+
+// The point `ahead` metres along `p` from `nearest`, which lies on its segment `from_i`.
+core::NavPoint walk_along(const std::vector<core::NavPoint>& p, std::size_t from_i,
+                          core::NavPoint nearest, double ahead) {
+  core::NavPoint at = nearest;
+  for (std::size_t i = from_i; i + 1 < p.size(); ++i) {
+    const double seg = core::distance_m(at, p[i + 1]);
+    if (seg >= ahead && seg > 0.0) {
+      const double f = ahead / seg;
+      return core::NavPoint{at.north_m + f * (p[i + 1].north_m - at.north_m),
+                            at.east_m + f * (p[i + 1].east_m - at.east_m)};
+    }
+    ahead -= seg;
+    at = p[i + 1];
+  }
+  return p.back();
+}
+
+}  // namespace
+
+std::optional<core::NavPoint> MapPlanner::along_path(core::NavPoint position,
+                                                     double ahead_m) const {
+  const std::vector<core::NavPoint>& p = path_;
+  if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
+  if (p.size() == 1) return p.front();
+  core::NavPoint nearest;
+  const std::size_t best_i = nearest_on_path(position, nearest);
+  return walk_along(p, best_i, nearest, std::max(0.0, ahead_m));
+}
+
 std::optional<core::NavPoint> MapPlanner::subgoal(core::NavPoint position, double nearest_m) const {
   const std::vector<core::NavPoint>& p = path_;
   if (status_ != PlanStatus::kOk || p.empty()) return std::nullopt;
   if (p.size() == 1) return p.front();
   core::NavPoint nearest;
   const std::size_t best_i = nearest_on_path(position, nearest);
-  // The point `ahead` metres along the path from the nearest one.
-  const auto along = [&](double ahead) {
-    core::NavPoint at = nearest;
-    for (std::size_t i = best_i; i + 1 < p.size(); ++i) {
-      const double seg = core::distance_m(at, p[i + 1]);
-      if (seg >= ahead && seg > 0.0) {
-        const double f = ahead / seg;
-        return core::NavPoint{at.north_m + f * (p[i + 1].north_m - at.north_m),
-                              at.east_m + f * (p[i + 1].east_m - at.east_m)};
-      }
-      ahead -= seg;
-      at = p[i + 1];
-    }
-    return p.back();
-  };
+  const auto along = [&](double ahead) { return walk_along(p, best_i, nearest, ahead); };
   // The farthest point within the look-ahead the boat can steer straight at: a sub-goal round
   // a corner would have the boat cut it.
   const double step = resolution_m_;

@@ -74,6 +74,25 @@ TEST(ActuatorMixer, ServoClampsToItsTravel) {
   EXPECT_EQ(ActuatorMixer(rev).servo_pulse_us(10.0), 1400);
 }
 
+// Astern, the servo-turned thruster pulls the stern the other way: the same turn demand must
+// deflect the servo the other way, or a heading held astern runs away.
+TEST(ActuatorMixer, ServoMirrorsAsternSoTheTurnKeepsItsSense) {
+  MixerConfig c;
+  c.thruster.reverse_allowed = true;
+  const ActuatorMixer m(c);
+  MixDetail ahead;
+  MixDetail astern;
+  const msg::ActuatorCommand fwd = m.mix({0.4, 0.5}, 0, &ahead);
+  const msg::ActuatorCommand back = m.mix({0.4, -0.5}, 0, &astern);
+  EXPECT_EQ(fwd.pulse_us[0], 1600);   // +10 deg: pushes the stern to port, bow to starboard
+  EXPECT_EQ(back.pulse_us[0], 1400);  // -10 deg: pulling astern, the same yaw
+  EXPECT_DOUBLE_EQ(ahead.channel_frac[0], 0.4);
+  EXPECT_DOUBLE_EQ(astern.channel_frac[0], -0.4);
+  EXPECT_LT(back.pulse_us[1], 1500);
+  // No thrust: nothing to mirror.
+  EXPECT_EQ(m.mix({0.4, 0.0}, 0).pulse_us[0], 1600);
+}
+
 // The left bias: base + offset truncated to an integer gives port turns one microsecond more
 // than starboard turns. Ours rounds the offset symmetrically.
 TEST(ActuatorMixer, NoLeftBiasInServoPulses) {

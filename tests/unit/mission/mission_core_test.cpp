@@ -717,6 +717,46 @@ TEST(MissionObstacleCourse, ThePlannedPathLeadsRoundADeadEndOpenTowardTheBoat) {
   EXPECT_FALSE(entered);
 }
 
+// Inside that U, its bow to the back wall: the path leads out behind, and 6 m between the posts
+// leave no room for the hull's turning circle. The boat backs out along the path, stern first,
+// its servo mirrored astern; out where the turn has room, it sails ahead again. With the
+// manoeuvre off, it never goes astern on its own.
+TEST(MissionObstacleCourse, InAPocketNarrowerThanItsTurnTheBoatBacksOutAlongThePath) {
+  for (const bool astern : {true, false}) {
+    SCOPED_TRACE(astern ? "astern on" : "astern off");
+    config::Configuration c = obstacle_config(25.0);
+    c.mission.planning.planner.astern_enabled = astern;
+    auto rig = std::make_unique<Rig>(c);
+    add_dead_end(*rig);
+    rig->position = {10.0, 0.0};
+    rig->heading_deg = 0.0;
+    rig->move = false;
+    rig->run_for(3.0);
+    if (!astern) {
+      EXPECT_FALSE(rig->logged("astern")) << rig->log_text();
+      EXPECT_GT(rig->out.command.pulse_us[1], 1500);
+      continue;
+    }
+    ASSERT_EQ(rig->path(), "obstacle_course/astern") << rig->log_text();
+    EXPECT_TRUE(rig->logged("and no room to turn: astern")) << rig->log_text();
+    EXPECT_LT(rig->out.command.pulse_us[1], 1500);  // astern
+    // The stern toward the path out (south): the bow held about north.
+    EXPECT_LT(std::abs(core::angle_diff_deg(rig->out.viz.desired_heading_deg, 0.0)), 20.0);
+    // Its bow 15 deg to port of that, the turn asked is to starboard as ahead, and the servo
+    // deflects the other way to give it astern.
+    rig->heading_deg = -15.0;
+    rig->run_for(0.5);
+    EXPECT_GT(rig->out.viz.turn_command, 0.0);
+    EXPECT_LT(rig->out.command.pulse_us[0], 1500);
+    // Out of the pocket, with water all round: ahead again.
+    rig->position = {1.0, 0.0};
+    rig->heading_deg = 0.0;
+    ASSERT_TRUE(rig->run_until([&] { return rig->path() == "obstacle_course/navigate"; }, 3.0))
+        << rig->log_text();
+    EXPECT_TRUE(rig->logged("room to turn after")) << rig->log_text();
+  }
+}
+
 // The dead end above, with the map update and each replan done after the step (the daemon's
 // way) or as the next step begins (lockstep and replay): every command, state and drawn path
 // is the same, bit for bit, tick by tick, through a course that needs many replans.

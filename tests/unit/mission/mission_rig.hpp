@@ -303,9 +303,15 @@ class Rig {
   void integrate() {
     const double dt = core::ns_to_sec(kTickNs);
     const double deflection_deg = (out.command.pulse_us[0] - 1500.0) / 400.0 * 25.0;
-    const double target_speed = 1.5 * thrust_frac();
+    // Astern (boat.yaml's 1450..1120 us) the propeller is weaker, and the turned thruster pulls
+    // the stern the other way: the same deflection turns the boat the other way.
+    const double esc_us = out.command.pulse_us[1];
+    const double astern_frac = esc_us >= 1450.0 ? 0.0 : (1450.0 - esc_us) / (1450.0 - 1120.0);
+    const double target_speed = 1.5 * thrust_frac() - 0.9 * astern_frac;
     speed_mps += (target_speed - speed_mps) * std::min(1.0, dt / 1.0);  // 1 s surge lag
-    const double yaw_rate_dps = 4.0 * deflection_deg * std::min(1.0, speed_mps + 0.2);
+    const double wash = astern_frac > 0.0 ? -1.0 : 1.0;
+    const double yaw_rate_dps =
+        wash * 4.0 * deflection_deg * std::min(1.0, std::abs(speed_mps) + 0.2);
     heading_deg = core::wrap_deg(heading_deg + yaw_rate_dps * dt);
     position.north_m += speed_mps * dt * std::cos(core::deg_to_rad(heading_deg));
     position.east_m += speed_mps * dt * std::sin(core::deg_to_rad(heading_deg));

@@ -401,6 +401,45 @@ TEST(SweptHull, NoArcLeftFallsBackToTheRaysInsteadOfStoppingForGood) {
   }
 }
 
+TEST(SweptHull, TurnRoomLooksPastTheFanToAHalfTurn) {
+  // A buoy where the hull lies at the end of a hard starboard half turn, 5.2 m to starboard.
+  // The fan's 90 deg never reaches it; a turn back along a path does.
+  const auto l = list_of({segment(1.2, 5.0, 1.2, 5.4)});
+  Avoidance a = make(Strategy::kScore, swept());
+  const auto d = a.decide(l, 0.0, 0);
+  EXPECT_GE(d.sweep_starboard_deg, 89.5);
+  EXPECT_DOUBLE_EQ(a.turn_room_deg(l, Side::kStarboard, 120.0), 120.0);
+  const double half_turn = a.turn_room_deg(l, Side::kStarboard, 180.0);
+  EXPECT_GT(half_turn, 120.0);
+  EXPECT_LT(half_turn, 180.0);
+  // To port the hull swings away from it; asking more than a half turn asks a half turn.
+  EXPECT_DOUBLE_EQ(a.turn_room_deg(l, Side::kPort, 250.0), 180.0);
+  // In a pocket narrower than the turning circle no half turn has room either way.
+  const auto pocket = list_of(
+      {segment(-3.0, -2.5, 3.0, -2.5), segment(3.0, -2.5, 3.0, 2.5), segment(3.0, 2.5, -3.0, 2.5)});
+  (void)a.decide(pocket, 0.0, kTick);
+  EXPECT_LT(a.turn_room_deg(pocket, Side::kPort, 150.0), 150.0);
+  EXPECT_LT(a.turn_room_deg(pocket, Side::kStarboard, 150.0), 150.0);
+  // Without the sweep there is nothing to tell.
+  Avoidance plain = make(Strategy::kScore);
+  (void)plain.decide(pocket, 0.0, 0);
+  EXPECT_DOUBLE_EQ(plain.turn_room_deg(pocket, Side::kPort, 150.0), 150.0);
+}
+
+TEST(SweptHull, AsternRoomIsTheWaterBehindTheStern) {
+  const AvoidanceParams p = swept();
+  const double stern_m = p.bow_ahead_m - p.hull_length_m;
+  Avoidance a = make(Strategy::kScore, p);
+  EXPECT_EQ(a.astern_room_m(ObstacleList{}, 0.6), AngleBins::kNoObstacle);
+  // A wall across the stern 0.3 m behind it: inside a 0.6 m look, 0.1 m from a 0.2 m one.
+  const auto behind = list_of({segment(stern_m - 0.3, -1.0, stern_m - 0.3, 1.0)});
+  EXPECT_DOUBLE_EQ(a.astern_room_m(behind, 0.6), 0.0);
+  EXPECT_NEAR(a.astern_room_m(behind, 0.2), 0.1, 1e-9);
+  // A wall alongside, 0.4 m off the side, is not astern.
+  const auto alongside = list_of({segment(stern_m, p.half_beam_m + 0.4, 0.0, p.half_beam_m + 0.4)});
+  EXPECT_NEAR(a.astern_room_m(alongside, 0.6), 0.4, 1e-9);
+}
+
 TEST(SweptHull, OnByDefaultAndRejectsBadGeometry) {
   EXPECT_TRUE(AvoidanceParams{}.sweep_enabled);
   AvoidanceParams p = swept();

@@ -378,6 +378,43 @@ TEST(MapPlanner, TheSubGoalIsReachedInAStraightLineNeverRoundACorner) {
   EXPECT_NEAR(near_sg->east_m, sg->east_m, 1e-9);
 }
 
+TEST(MapPlanner, AlongPathWalksThePathWhetherOrNotThePointIsInSight) {
+  NavMap m(small_map(), {}, {});
+  const std::vector<std::pair<NavPoint, NavPoint>> wall{{{6.0, -3.0}, {6.0, 12.0}}};
+  const core::NavPose pose{{0.0, 0.0}, 0.0};
+  m.add_scan(scan_of(pose, wall), pose, kHull);
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  EXPECT_FALSE(planner.along_path(pose.position, 1.0).has_value());  // no plan yet
+  ASSERT_EQ(planner.plan(m, pose.position, {12.0, 0.0}), PlanStatus::kOk);
+  const std::vector<NavPoint>& path = planner.path();
+  double length_m = 0.0;
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) length_m += distance_m(path[i], path[i + 1]);
+  // Each point lies on the path, at the distance asked along it from the start.
+  for (const double ahead_m : {0.0, 1.5, 4.0, 0.5 * length_m}) {
+    const auto q = planner.along_path(pose.position, ahead_m);
+    ASSERT_TRUE(q);
+    double walked_m = 0.0;
+    double off_m = 1e9;
+    double at_m = 0.0;
+    for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+      const double seg_m = distance_m(path[i], path[i + 1]);
+      const double d = distance_m(path[i], *q) + distance_m(*q, path[i + 1]) - seg_m;
+      if (d < off_m) {
+        off_m = d;
+        at_m = walked_m + distance_m(path[i], *q);
+      }
+      walked_m += seg_m;
+    }
+    EXPECT_LT(off_m, 1e-6) << ahead_m;
+    EXPECT_NEAR(at_m, ahead_m, 0.3) << ahead_m;  // from the path point nearest the boat
+  }
+  // Past its end: the end.
+  const auto end = planner.along_path(pose.position, length_m + 10.0);
+  ASSERT_TRUE(end);
+  EXPECT_NEAR(end->north_m, path.back().north_m, 1e-12);
+  EXPECT_NEAR(end->east_m, path.back().east_m, 1e-12);
+}
+
 TEST(MapPlanner, AStartOnAWallLeavesItOnTheSideTheBoatCameFrom) {
   // A thin wall across the way, open round its west end. A boat whose position lies on the
   // wall (its bow against it, the estimate a little inside) must back off on its own side and
