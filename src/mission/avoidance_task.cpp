@@ -76,7 +76,7 @@ class AvoidanceTask final : public AvoidingTask {
     off_map_ = false;
     failures_ = 0;
     look_sign_ = 1.0;
-    astern_ = false;
+    manoeuvre_ = Manoeuvre::kNone;
     astern_holdoff_ns_ = core::kNeverNs;
     progress_.reset();
     set_phase(course1_ ? "to_waypoint" : "navigate", "task entered");
@@ -118,17 +118,17 @@ class AvoidanceTask final : public AvoidingTask {
     }
     if (!moving_on) return unstick(ctx, aim, out);
     fill_viz(ctx, goal);
-    double turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    const double turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
     // The avoidance turned far from the sub-goal: round a corner of the path it would take the
     // free heading nearest the sub-goal's bearing, which may lead into the pocket the path goes
     // round. The path's nearer point in plain sight says which way round.
     if (planned_aim && std::abs(turned_deg) > kDivergeDeg) {
       if (const auto near = ctx.planner->subgoal(ctx.antenna, kNearSubgoalM);
           near && core::distance_m(*near, aim) > 0.25) {
-        turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, *near), out);
+        steer(ctx, core::bearing_deg(ctx.antenna, *near), out);
       }
     }
-    if (planned_aim) astern(ctx, aim, turned_deg, out);
+    if (planned_aim) astern(ctx, aim, out);
     out.speed_factor *= sight;
     return TaskResult::kRunning;
   }
@@ -501,59 +501,96 @@ class AvoidanceTask final : public AvoidingTask {
 
   /// Astern along the path (planner.astern_*): with the path's sub-goal behind and no room for
   /// the swept hull to turn to it, as in a pocket narrower than the turning circle, the boat
-  /// backs along the path stern first instead of swinging its stern into the pocket's side.
-  /// Called after steer(), whose decision the turn-room test reads (`turned_deg`: how far the
-  /// avoidance turned from the path); overrides `out` while it lasts. While the path close by
-  /// leads behind, the stern follows it; once it leads off the bow, the boat backs straight on
-  /// to make room. It ends once the turn to the sub-goal has room and the avoidance would follow
-  /// the path (not into the pocket again), when the water astern closes, or after astern_max_m.
-  void astern(const TaskContext& ctx, core::NavPoint aim, double turned_deg, GuidanceRequest& out) {
+  /// backs along the path stern first instead of swinging its stern into the pocket's side:
+  /// the stern follows the path while it leads behind, then the boat backs straight on to make
+  /// room. Once the turn to the sub-goal has room, it turns onto it at look_thrust_frac,
+  /// steering at the sub-goal itself (the avoidance would take the free heading nearest it,
+  /// back into the pocket), until the sub-goal is near the bow; a turn that runs out of room
+  /// backs on again. The water astern closing, or astern_max_m backed in all, ends it. Called
+  /// after steer(); overrides `out` while it lasts.
+  void astern(const TaskContext& ctx, core::NavPoint aim, GuidanceRequest& out) {
     if (!plan_.astern_enabled || ctx.obstacles == nullptr) return;
     const double to_aim_deg = core::bearing_deg(ctx.antenna, aim);
     const double off_bow_deg = core::angle_diff_deg(to_aim_deg, ctx.pose.heading_deg);
     const double turn_deg = std::abs(off_bow_deg);
-    if (!astern_ && (turn_deg <= plan_.astern_behind_deg ||
-                     (astern_holdoff_ns_ != core::kNeverNs && ctx.now_ns < astern_holdoff_ns_))) {
+    if (manoeuvre_ == Manoeuvre::kNone &&
+        (turn_deg <= plan_.astern_behind_deg ||
+         (astern_holdoff_ns_ != core::kNeverNs && ctx.now_ns < astern_holdoff_ns_))) {
       return;
     }
-    const guidance::Side side =
-        off_bow_deg >= 0.0 ? guidance::Side::kStarboard : guidance::Side::kPort;
+    const guidance::Side side = off_bow_deg >= 0.0 ? guidance::Side::kStarboard
+                                                   : guidance::Side::kPort;
     const bool room = avoidance_->turn_room_deg(*ctx.obstacles, side, turn_deg) >= turn_deg;
     const bool stern_clear = avoidance_->astern_room_m(*ctx.obstacles, plan_.astern_look_m) > 0.0;
-    // Stern first along the path itself: the sub-goal may lie round the corner the stern would
-    // cut.
-    const core::NavPoint back_to = ctx.planner->along_path(ctx.antenna, kAsternAimM).value_or(aim);
-    const double near_off_deg = std::abs(
-        core::angle_diff_deg(core::bearing_deg(ctx.antenna, back_to), ctx.pose.heading_deg));
-    if (!astern_) {
-      if (room || !stern_clear) return;
-      astern_ = true;
-      astern_from_ = ctx.antenna;
-      set_phase("astern",
-                reason_printf("path behind (%.0f deg) and no room to turn: astern", off_bow_deg));
-    } else {
-      const double backed_m = core::distance_m(ctx.antenna, astern_from_);
-      const bool follows = std::abs(turned_deg) <= kDivergeDeg;
-      const char* why = room && follows                  ? "room to turn"
-                        : !stern_clear                   ? "astern blocked"
-                        : backed_m >= plan_.astern_max_m ? "astern far enough"
-                                                         : nullptr;
-      if (why != nullptr) {
-        astern_ = false;
-        astern_holdoff_ns_ = ctx.now_ns + core::sec_to_ns(kAsternHoldoffS);
-        set_phase(course1_ ? "to_waypoint" : "navigate",
-                  reason_printf("%s after %.1f m astern", why, backed_m));
-        return;
-      }
+    const double backed_m = core::distance_m(ctx.antenna, astern_from_);
+    const auto end = [&](const char* why) {
+      manoeuvre_ = Manoeuvre::kNone;
+      astern_holdoff_ns_ = ctx.now_ns + core::sec_to_ns(kAsternHoldoffS);
+      set_phase(course1_ ? "to_waypoint" : "navigate",
+                reason_printf("%s after %.1f m astern", why, backed_m));
+    };
+    switch (manoeuvre_) {
+      case Manoeuvre::kNone:
+        if (room || !stern_clear) return;
+        manoeuvre_ = Manoeuvre::kAstern;
+        astern_from_ = ctx.antenna;
+        set_phase("astern", reason_printf("path behind (%.0f deg) and no room to turn: astern",
+                                          off_bow_deg));
+        break;
+      case Manoeuvre::kAstern:
+        if (room) {
+          manoeuvre_ = Manoeuvre::kTurn;
+          set_phase("turn_to_path", reason_printf("room to turn %.0f deg after %.1f m astern",
+                                                  off_bow_deg, backed_m));
+        } else if (!stern_clear) {
+          end("astern blocked");
+          return;
+        } else if (backed_m >= plan_.astern_max_m) {
+          end("astern far enough");
+          return;
+        }
+        break;
+      case Manoeuvre::kTurn:
+        if (turn_deg <= kTurnedDeg) {
+          end("turned onto the path");
+          return;
+        }
+        if (!room) {
+          // Back on to make room (the distance backed counts from the first time astern).
+          if (!stern_clear || backed_m >= plan_.astern_max_m) {
+            end("no room left to turn");
+            return;
+          }
+          manoeuvre_ = Manoeuvre::kAstern;
+          set_phase("astern", reason_printf("no room left to turn (%.0f deg): astern again",
+                                            off_bow_deg));
+        }
+        break;
     }
     out.steer = true;
-    out.desired_heading_deg = near_off_deg > kAsternBehindDeg
-                                  ? core::wrap_deg(core::bearing_deg(ctx.antenna, back_to) + 180.0)
-                                  : ctx.pose.heading_deg;
+    if (manoeuvre_ == Manoeuvre::kTurn) {
+      out.desired_heading_deg = to_aim_deg;
+      out.thrust_frac = plan_.look_thrust_frac;
+      out.speed_factor = 1.0;
+      return;
+    }
+    // Stern first along the path itself, the stern steered onto it (the sub-goal may lie round
+    // the corner the stern would cut). Once that part of the path leads off the bow, straight
+    // back.
+    const guidance::AvoidanceParams& hull = avoidance_->params();
+    const core::NavPoint stern =
+        core::body_to_nav(ctx.pose, {hull.bow_ahead_m - hull.hull_length_m, 0.0});
+    const core::NavPoint back_to = ctx.planner->along_path(stern, kAsternAimM).value_or(aim);
+    const double back_to_deg = core::bearing_deg(stern, back_to);
+    out.desired_heading_deg =
+        std::abs(core::angle_diff_deg(back_to_deg, ctx.pose.heading_deg)) > kAsternBehindDeg
+            ? core::wrap_deg(back_to_deg + 180.0)
+            : ctx.pose.heading_deg;
     out.thrust_frac = plan_.back_off_thrust_frac;
     out.speed_factor = -1.0;
   }
   static constexpr double kAsternBehindDeg = 90.0;
+  static constexpr double kTurnedDeg = 30.0;
   static constexpr double kAsternHoldoffS = 2.0;
   static constexpr double kAsternAimM = 1.5;
 
@@ -687,7 +724,8 @@ class AvoidanceTask final : public AvoidingTask {
   double look_sign_ = 1.0;
   StuckWatch progress_;
   // Astern along the path.
-  bool astern_ = false;
+  enum class Manoeuvre : std::uint8_t { kNone, kAstern, kTurn };
+  Manoeuvre manoeuvre_ = Manoeuvre::kNone;
   core::NavPoint astern_from_;
   core::TimeNs astern_holdoff_ns_ = core::kNeverNs;
 };
