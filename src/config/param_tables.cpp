@@ -856,6 +856,8 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_behind_deg>(
         "planner.astern_behind_deg", "deg", 90.0, 180.0, kFixed,
         "the sub-goal counts as behind this far off the bow"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_thrust_frac>(
+        "planner.astern_thrust_frac", "", 0.0, 1.0, kFixed, "astern thrust along the path"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::astern_look_m>(
         "planner.astern_look_m", "m", 0.0, 5.0, kFixed,
         "astern only while this much water behind the stern is clear"),

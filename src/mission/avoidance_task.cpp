@@ -518,8 +518,8 @@ class AvoidanceTask final : public AvoidingTask {
          (astern_holdoff_ns_ != core::kNeverNs && ctx.now_ns < astern_holdoff_ns_))) {
       return;
     }
-    const guidance::Side side = off_bow_deg >= 0.0 ? guidance::Side::kStarboard
-                                                   : guidance::Side::kPort;
+    const guidance::Side side =
+        off_bow_deg >= 0.0 ? guidance::Side::kStarboard : guidance::Side::kPort;
     const bool room = avoidance_->turn_room_deg(*ctx.obstacles, side, turn_deg) >= turn_deg;
     const bool stern_clear = avoidance_->astern_room_m(*ctx.obstacles, plan_.astern_look_m) > 0.0;
     const double backed_m = core::distance_m(ctx.antenna, astern_from_);
@@ -534,8 +534,8 @@ class AvoidanceTask final : public AvoidingTask {
         if (room || !stern_clear) return;
         manoeuvre_ = Manoeuvre::kAstern;
         astern_from_ = ctx.antenna;
-        set_phase("astern", reason_printf("path behind (%.0f deg) and no room to turn: astern",
-                                          off_bow_deg));
+        set_phase("astern",
+                  reason_printf("path behind (%.0f deg) and no room to turn: astern", off_bow_deg));
         break;
       case Manoeuvre::kAstern:
         if (room) {
@@ -562,8 +562,8 @@ class AvoidanceTask final : public AvoidingTask {
             return;
           }
           manoeuvre_ = Manoeuvre::kAstern;
-          set_phase("astern", reason_printf("no room left to turn (%.0f deg): astern again",
-                                            off_bow_deg));
+          set_phase("astern",
+                    reason_printf("no room left to turn (%.0f deg): astern again", off_bow_deg));
         }
         break;
     }
@@ -586,7 +586,7 @@ class AvoidanceTask final : public AvoidingTask {
         std::abs(core::angle_diff_deg(back_to_deg, ctx.pose.heading_deg)) > kAsternBehindDeg
             ? core::wrap_deg(back_to_deg + 180.0)
             : ctx.pose.heading_deg;
-    out.thrust_frac = plan_.back_off_thrust_frac;
+    out.thrust_frac = plan_.astern_thrust_frac;
     out.speed_factor = -1.0;
   }
   static constexpr double kAsternBehindDeg = 90.0;

@@ -92,11 +92,12 @@ struct MapPlannerParams {
   double stuck_distance_m = 0.5;
   // Astern along the path: when the path's sub-goal lies more than astern_behind_deg off the
   // bow and the swept hull cannot turn to it (a pocket narrower than the turning circle), the
-  // boat backs toward it stern first at back_off_thrust_frac, while astern_look_m of water
-  // behind the stern stays clear, until the turn is free, the sub-goal comes round or it has
-  // backed astern_max_m.
+  // boat backs along the path stern first at astern_thrust_frac, while astern_look_m of water
+  // behind the stern stays clear, until the turn is free (then turns onto the path at
+  // look_thrust_frac) or it has backed astern_max_m.
   bool astern_enabled = true;
   double astern_behind_deg = 110.0;
+  double astern_thrust_frac = 1.0;  // a propeller pushes less astern than ahead
   double astern_look_m = 0.6;
   double astern_max_m = 8.0;
   [[nodiscard]] std::optional<std::string> validate() const;

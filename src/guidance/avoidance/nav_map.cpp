@@ -68,7 +68,8 @@ std::optional<std::string> MapPlannerParams::validate() const {
     return "planner: stop_s, back_off_s and look_s >= 0";
   }
   if (!(back_off_thrust_frac >= 0.0 && back_off_thrust_frac <= 1.0) ||
-      !(look_thrust_frac >= 0.0 && look_thrust_frac <= 1.0)) {
+      !(look_thrust_frac >= 0.0 && look_thrust_frac <= 1.0) ||
+      !(astern_thrust_frac >= 0.0 && astern_thrust_frac <= 1.0)) {
     return "planner: thrust fractions in [0, 1]";
   }
   if (!std::isfinite(look_turn_deg) || std::abs(look_turn_deg) > 180.0) {
