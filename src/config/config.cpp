@@ -366,32 +366,9 @@ void kv(YAML::Emitter& out, const char* key, const T& value) {
   out << YAML::Key << key << YAML::Value << value;
 }
 
-}  // namespace
-
-std::string to_yaml(const Configuration& c) {
-  YAML::Emitter out;
-  // Replay rebuilds the core from this text: every double must load back bit for bit.
-  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
-  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
-  out << YAML::BeginMap;
-  out << YAML::Key << "boat" << YAML::Value << YAML::BeginMap;
-  kv(out, "file", c.boat.file);
-  emit_table(out, c.boat, param_table<BoatConfig>());
-  out << YAML::EndMap;
-
-  out << YAML::Key << "devices" << YAML::Value << YAML::BeginMap;
-  kv(out, "file", c.devices.file);
-  for_each_devices_section(c.devices, [&](std::string_view key, const auto& section) {
-    using S = std::remove_cvref_t<decltype(section)>;
-    out << YAML::Key << std::string(key) << YAML::Value << YAML::BeginMap;
-    emit_table(out, section, param_table<S>());
-    out << YAML::EndMap;
-  });
-  out << YAML::EndMap;
-
-  const MissionConfig& m = c.mission;
-  out << YAML::Key << "mission" << YAML::Value << YAML::BeginMap;
-  kv(out, "file", m.file);
+// The mission's keys and values, as the mission file holds them (its name, origin, sections
+// and tasks), into the open map `out`.
+void emit_mission(YAML::Emitter& out, const MissionConfig& m) {
   kv(out, "name", m.name);
   out << YAML::Key << "origin" << YAML::Value;
   emit_geo(out, m.origin);
@@ -476,7 +453,36 @@ std::string to_yaml(const Configuration& c) {
     }
     out << YAML::EndMap;
   }
-  out << YAML::EndSeq << YAML::EndMap;
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string to_yaml(const Configuration& c) {
+  YAML::Emitter out;
+  // Replay rebuilds the core from this text: every double must load back bit for bit.
+  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
+  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
+  out << YAML::BeginMap;
+  out << YAML::Key << "boat" << YAML::Value << YAML::BeginMap;
+  kv(out, "file", c.boat.file);
+  emit_table(out, c.boat, param_table<BoatConfig>());
+  out << YAML::EndMap;
+
+  out << YAML::Key << "devices" << YAML::Value << YAML::BeginMap;
+  kv(out, "file", c.devices.file);
+  for_each_devices_section(c.devices, [&](std::string_view key, const auto& section) {
+    using S = std::remove_cvref_t<decltype(section)>;
+    out << YAML::Key << std::string(key) << YAML::Value << YAML::BeginMap;
+    emit_table(out, section, param_table<S>());
+    out << YAML::EndMap;
+  });
+  out << YAML::EndMap;
+
+  out << YAML::Key << "mission" << YAML::Value << YAML::BeginMap;
+  kv(out, "file", c.mission.file);
+  emit_mission(out, c.mission);
+  out << YAML::EndMap;
 
   // The vision file's keys as write_vision gives them (its numbers read back bit for bit).
   std::ostringstream vision_text;
@@ -488,6 +494,17 @@ std::string to_yaml(const Configuration& c) {
     out << YAML::Key << entry.first << YAML::Value << entry.second;
   }
   out << YAML::EndMap << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+std::string mission_to_yaml(const MissionConfig& mission) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
+  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
+  out << YAML::BeginMap;
+  kv(out, "kind", "mission");
+  emit_mission(out, mission);
+  out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
 }
 

@@ -52,5 +52,8 @@ ConfigKind detect_config_kind(const std::string& path, ConfigErrors& errors);
 
 /// The effective configuration as YAML (for --print-config and the flight recorder).
 std::string to_yaml(const Configuration& config);
+/// The mission as a mission file that load_mission_config reads back to the same values (every
+/// key written out, doubles to the bit).
+std::string mission_to_yaml(const MissionConfig& mission);
 
 }  // namespace coxswain::config

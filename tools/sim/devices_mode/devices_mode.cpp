@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "coxswain/config/config.hpp"
 #include "coxswain/core/clock.hpp"
 #include "coxswain/live/control_client.hpp"
 #include "sim/devices/arduino/emulator.hpp"
@@ -24,6 +25,7 @@
 #include "sim/devices/rplidar/emulator.hpp"
 #include "sim/devices/ublox/emulator.hpp"
 #include "sim/runner/boat_truth.hpp"
+#include "sim/runner/mission_run.hpp"
 #include "sim/sensors/camera_sim.hpp"
 #include "sim/sensors/gnss_sim.hpp"
 #include "sim/sensors/imu_sim.hpp"
@@ -271,6 +273,15 @@ struct DevicesMode::Impl {
   }
   fs::path camera_dir() const { return options.run_dir / "camera"; }
   fs::path devices_yaml() const { return options.run_dir / "devices.yaml"; }
+  fs::path mission_yaml() const { return options.run_dir / "mission.yaml"; }
+
+  void write_mission_yaml() const {
+    write_text(mission_yaml(),
+               "# SPDX-License-Identifier: Apache-2.0\n"
+               "# Written by coxswain-sim devices: " +
+                   options.mission_file.string() + " fitted to the course.\n" +
+                   config::mission_to_yaml(mission));
+  }
 
   void write_devices_yaml() const {
     const auto& cam = sensors.camera;
@@ -312,8 +323,11 @@ DevicesMode::DevicesMode(DevicesModeOptions options) {
     options.mission_file = config_dir / "missions" / (course.world.name + ".yaml");
   }
   config::BoatConfig boat = config::load_boat_config(options.boat_file.string(), errors);
-  config::MissionConfig mission =
-      config::load_mission_config(options.mission_file.string(), errors);
+  // The mission fitted to the course as the lockstep runs fit it (its origin at the course's,
+  // waypoints on the course's gates or points, the field's corners as the boundary), so both
+  // modes sail the same mission; the daemon reads it from the run folder.
+  config::MissionConfig mission = runner::fit_mission_to_course(
+      config::load_mission_config(options.mission_file.string(), errors), course.world);
   sensors::SensorConfig sensor_config;
   if (!options.sensors_file.empty()) {
     if (auto s = sensors::load_sensor_config_file(options.sensors_file.string(), errors)) {
@@ -420,6 +434,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
   }
   if (camera.update(0, truth.pose, frame)) (void)frames.write(frame);
   s.write_devices_yaml();
+  s.write_mission_yaml();
 
   std::vector<std::string> argv{s.options.daemon_path.string(),
                                 "--boat",
@@ -427,7 +442,7 @@ DevicesOutcome DevicesMode::run(const std::atomic<bool>* interrupt) {
                                 "--devices",
                                 s.devices_yaml().string(),
                                 "--mission",
-                                fs::absolute(s.options.mission_file).string(),
+                                fs::absolute(s.mission_yaml()).string(),
                                 "--log-dir",
                                 (s.options.run_dir / "daemon").string(),
                                 "run"};
