@@ -128,7 +128,12 @@ class AvoidanceTask final : public AvoidingTask {
         steer(ctx, core::bearing_deg(ctx.antenna, *near), out);
       }
     }
-    if (planned_aim) astern(ctx, aim, out);
+    if (planned_aim) {
+      astern(ctx, aim, out);
+    } else if (manoeuvre_ != Manoeuvre::kNone) {
+      manoeuvre_ = Manoeuvre::kNone;  // no path to back along
+      set_phase(course1_ ? "to_waypoint" : "navigate", "no planned path: astern ends");
+    }
     out.speed_factor *= sight;
     return TaskResult::kRunning;
   }
