@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "coxswain/core/angles.hpp"
 #include "coxswain/core/lanes.hpp"
@@ -36,6 +37,25 @@ bool tied(double a, double b) { return std::abs(a - b) <= kTieEps * (1.0 + std::
 
 double bearing_of(const core::BodyPoint& p) {
   return core::rad_to_deg(std::atan2(p.starboard_m, p.forward_m));
+}
+
+// A segment's ends in the body frame (forward, starboard of each).
+struct SegmentEnds {
+  double af = 0.0;
+  double as = 0.0;
+  double bf = 0.0;
+  double bs = 0.0;
+};
+
+// Its ends when all four coordinates are finite; a segment with any other is passed over.
+std::optional<SegmentEnds> finite_ends(const perception::ObstacleSegment& seg) {
+  const SegmentEnds e{seg.begin.forward_m, seg.begin.starboard_m, seg.end.forward_m,
+                      seg.end.starboard_m};
+  if (!std::isfinite(e.af) || !std::isfinite(e.as) || !std::isfinite(e.bf) ||
+      !std::isfinite(e.bs)) {
+    return std::nullopt;
+  }
+  return e;
 }
 
 // The hull as a rectangle in its own body frame: forward in [aft_m, fore_m], |starboard| <= half.
@@ -592,9 +612,9 @@ double Avoidance::turn_room_deg(const perception::ObstacleList& obstacles, Side 
   const int s = side == Side::kPort ? 0 : 1;
   const SweepSide& w = sweep_sides_[static_cast<std::size_t>(s)];
   // The steps the turn needs: up to the first at or past turn_deg.
-  std::size_t steps = 0;
-  while (steps < w.all_steps && w.a_deg[steps] < turn_deg - 1e-9) ++steps;
-  if (steps < w.all_steps) ++steps;
+  const auto past =
+      std::lower_bound(w.a_deg.begin(), w.a_deg.begin() + w.all_steps, turn_deg - 1e-9);
+  const auto steps = std::min(w.all_steps, static_cast<std::size_t>(past - w.a_deg.begin()) + 1);
   const std::size_t first_hit = first_sweep_hit(obstacles, s, steps);
   if (first_hit >= steps) return turn_deg;
   return std::max(0.0, w.a_deg[first_hit] - params_.sweep_step_deg);
@@ -607,14 +627,9 @@ double Avoidance::astern_room_m(const perception::ObstacleList& obstacles, doubl
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   for (std::uint32_t k = 0; k < count; ++k) {
-    const auto& seg = obstacles.segments[k];
-    const double af = seg.begin.forward_m;
-    const double as = seg.begin.starboard_m;
-    const double bf = seg.end.forward_m;
-    const double bs = seg.end.starboard_m;
-    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
-      continue;
-    }
+    const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+    if (!ends) continue;
+    const auto [af, as, bf, bs] = *ends;
     least_m = std::min(least_m, segment_box_distance(af, as, bf, bs, box));
   }
   return least_m;
@@ -732,14 +747,9 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   for (std::uint32_t k = 0; k < count; ++k) {
-    const auto& seg = obstacles.segments[k];
-    const double af = seg.begin.forward_m;
-    const double as = seg.begin.starboard_m;
-    const double bf = seg.end.forward_m;
-    const double bs = seg.end.starboard_m;
-    if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
-      continue;
-    }
+    const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+    if (!ends) continue;
+    const auto [af, as, bf, bs] = *ends;
     if (point_segment_farther_than(0.0, 0.0, af, as, bf, bs, reach)) continue;
     // The segment's bounding circle first decides which bins it can reach at all: whole
     // blocks of bins by their wedge, then each bin by its corridor (within the half-width of
@@ -861,14 +871,9 @@ void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
     const std::uint32_t count =
         std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
     for (std::uint32_t k = 0; k < count; ++k) {
-      const auto& seg = obstacles.segments[k];
-      const double af = seg.begin.forward_m;
-      const double as = seg.begin.starboard_m;
-      const double bf = seg.end.forward_m;
-      const double bs = seg.end.starboard_m;
-      if (!std::isfinite(af) || !std::isfinite(as) || !std::isfinite(bf) || !std::isfinite(bs)) {
-        continue;
-      }
+      const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+      if (!ends) continue;
+      const auto [af, as, bf, bs] = *ends;
       if (point_segment_farther_than(p, 0.0, af, as, bf, bs, reach)) continue;
       // A segment clearly farther than the clearance from the box's circumcircle keeps the
       // clearance: its exact distance is wanted only when it may be nearer.
