@@ -227,6 +227,22 @@ TEST(DaemonDevices, EveryDeviceRunsAndTheBoatSailsTowardTheFirstWaypoint) {
   EXPECT_GT(t.u_mps, 0.2) << "the boat is not under way";
 }
 
+// The shipped obstacle mission's own waypoint lies beyond the shipped pool's wall: devices mode
+// hands the daemon the mission fitted to the course, as lockstep sails it, so the planner finds
+// its path through the gates and the daemon finishes the course.
+TEST(DaemonDevices, TheDaemonSailsTheMissionFittedToTheCourse) {
+  DevicesRun run("fitted", "kaboat2022_obstacle_preliminary.yaml", "obstacle_course.yaml");
+  ASSERT_NE(run.daemon(), nullptr) << "devices mode did not start the daemon";
+  EXPECT_TRUE(fs::exists(run.run_dir() / "mission.yaml"));
+  // The run ends itself once the judge has seen the course completed (the daemon is stopped).
+  ASSERT_TRUE(run.wait_line(0, "stopping on SIGTERM", seconds(90)).has_value())
+      << "the run did not end within 90 s";
+  const DevicesOutcome& out = run.finish();
+  EXPECT_TRUE(out.score.completed) << "ended " << static_cast<int>(out.end);
+  EXPECT_EQ(out.score.collisions, 0);
+  EXPECT_FALSE(run.wait_line(0, "no path to the goal", seconds(0)).has_value());
+}
+
 // A mission started from the control interface (2022 docking): the simulated operator gives
 // the course's target and the start through the daemon's control socket once the devices run.
 TEST(DaemonDevices, AControlStartedMissionGetsTheCoursesTargetAndTheStartThroughTheSocket) {
