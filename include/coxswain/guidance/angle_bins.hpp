@@ -69,12 +69,23 @@ class AngleBins {
     int count = 0;
   };
   [[nodiscard]] Runs candidate_bins(double from_deg, double sweep_deg) const;
+  // The closest point of a segment to the body origin: its parameter along the segment and
+  // its distance.
+  struct Closest {
+    double t = 0.0;
+    double d_m = 0.0;
+  };
+  // That of segment a + t d, t in [0, 1].
+  [[nodiscard]] static Closest closest_to_origin(double af, double as, double df, double ds);
   // Calls visit(bin, d_min, f, s, at_closest) for every bin the segment reaches: at_closest when
-  // the bin holds the segment's own closest point (distance d_min), else (f, s) is the point of
-  // the segment nearest the origin that the bin reaches.
+  // the bin holds the segment's own closest point (`closest`, distance d_min), else (f, s) is
+  // the point of the segment nearest the origin that the bin reaches.
   template <class Visit>
-  void visit_bins(const perception::ObstacleSegment& seg, double corridor_half_width_m,
-                  Visit&& visit) const;
+  void visit_bins(const perception::ObstacleSegment& seg, const Closest& closest,
+                  double corridor_half_width_m, Visit&& visit) const;
+  // add_segment() with the segment's closest point already found.
+  void add_segment(const perception::ObstacleSegment& seg, const Closest& closest,
+                   double corridor_half_width_m);
 
   AngleFan fan_{};
   std::size_t count_ = 0;

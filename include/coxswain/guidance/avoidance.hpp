@@ -164,6 +164,11 @@ class Avoidance {
 
   [[nodiscard]] const AvoidanceParams& params() const { return params_; }
   [[nodiscard]] const AngleBins& bins() const { return bins_; }
+  /// How far the boat sails along bin `bin`'s predicted path (the turn onto its heading, then
+  /// straight on) before an obstacle of the last decide()'s list comes within the hull's
+  /// corridor; that decide's starting range where none does (the detection range, or
+  /// AngleBins::kNoObstacle for the risk bins). Valid with the swept hull on.
+  [[nodiscard]] double path_range_m(std::size_t bin) const { return geometry_range_m_[bin]; }
 
  private:
   explicit Avoidance(const AvoidanceParams& params);
@@ -185,6 +190,9 @@ class Avoidance {
   void compute_path_ranges(const perception::ObstacleList& obstacles);
   // Lowers range_m_[j] to where the segment a-b enters bin j's corridor (half-width w).
   void path_range_exact(std::size_t j, double af, double as, double bf, double bs, double w);
+  // Calls path_range_exact for the bins a segment may lower: those its bounding circle (middle,
+  // half length) comes near, by the culling tests in floats.
+  void cull_path_ranges(double af, double as, double bf, double bs, double w, bool capped);
   [[nodiscard]] bool swept_out(double center_deg) const {
     return center_deg > sweep_starboard_deg_ || -center_deg > sweep_port_deg_;
   }
@@ -235,6 +243,10 @@ class Avoidance {
     std::array<double, kMaxSweepSteps> origin_s_m{};
     std::array<double, kMaxSweepSteps> box_f_m{};  // hull box centre
     std::array<double, kMaxSweepSteps> box_s_m{};
+    // The box centre as floats for the culling test, four steps at a time; steps past the last
+    // lie far off.
+    std::array<float, (kMaxSweepSteps + 3) / 4 * 4> lane_box_f_m{};
+    std::array<float, (kMaxSweepSteps + 3) / 4 * 4> lane_box_s_m{};
   };
   std::array<SweepSide, 2> sweep_sides_{};
   double box_radius_m_ = 0.0;  // hull box centre to a corner
@@ -261,6 +273,34 @@ class Avoidance {
   };
   std::array<BinBlock, AngleBins::kMaxBins / kBlockBins + 1> blocks_{};
   std::size_t block_count_ = 0;
+  // The culling tests run four blocks, then four bins (or four swept-hull steps), at a time in
+  // floats, with margins far above float rounding: so a culled bin is one the exact test would
+  // have left as it was. A segment with an end beyond 100 m (or a boat whose turns reach past
+  // it) is tested exactly instead.
+  static constexpr std::size_t kBlockLanes = (AngleBins::kMaxBins / kBlockBins + 4) / 4 * 4;
+  struct BlockLanes {
+    std::array<float, kBlockLanes> origin_f_m{};
+    std::array<float, kBlockLanes> origin_s_m{};
+    std::array<float, kBlockLanes> reach_m{};  // ahead_m + radius_m: the bound less the segment
+    std::array<float, kBlockLanes> radius_m{};
+    std::array<float, kBlockLanes> lo_cos{};
+    std::array<float, kBlockLanes> lo_sin{};
+    std::array<float, kBlockLanes> hi_cos{};
+    std::array<float, kBlockLanes> hi_sin{};
+    std::array<std::int32_t, kBlockLanes> wedge{};  // all ones where the wedge test is usable
+    std::array<std::int32_t, kBlockLanes> live{};   // all ones for the blocks that exist
+  };
+  struct BinLanes {  // the per-bin arrays above as floats; bins past the last never pass
+    std::array<float, AngleBins::kMaxBins> arc_end_f_m{};
+    std::array<float, AngleBins::kMaxBins> arc_end_s_m{};
+    std::array<float, AngleBins::kMaxBins> cos{};
+    std::array<float, AngleBins::kMaxBins> sin{};
+    std::array<float, AngleBins::kMaxBins> arc_len_m{};
+    std::array<float, AngleBins::kMaxBins> range_m{};  // range_m_ as it is lowered
+  };
+  BlockLanes block_lanes_{};
+  BinLanes bin_lanes_{};
+  bool lanes_usable_ = false;  // every arc end, arc, step and detection range within 100 m
   // What decide() derives from the obstacles alone (bins, swept-hull limits, path ranges),
   // kept for the next call: between two scans the mission decides every tick on the same list
   // with a new goal, and only the choice among the bins has to be made again. Reused only when

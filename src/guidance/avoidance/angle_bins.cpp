@@ -103,15 +103,7 @@ AngleBins::Runs AngleBins::candidate_bins(double from_deg, double sweep_deg) con
   return r;
 }
 
-namespace {
-
-// The closest point of segment a + t d (t in [0, 1]) to the body origin: its parameter and
-// distance, as fill() and add_segment() take them.
-struct Closest {
-  double t = 0.0;
-  double d_m = 0.0;
-};
-Closest closest_to_origin(double af, double as, double df, double ds) {
+AngleBins::Closest AngleBins::closest_to_origin(double af, double as, double df, double ds) {
   const double dd = df * df + ds * ds;
   Closest c;
   c.t = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
@@ -119,11 +111,9 @@ Closest closest_to_origin(double af, double as, double df, double ds) {
   return c;
 }
 
-}  // namespace
-
 template <class Visit>
-void AngleBins::visit_bins(const perception::ObstacleSegment& seg, double corridor_half_width_m,
-                           Visit&& visit) const {
+void AngleBins::visit_bins(const perception::ObstacleSegment& seg, const Closest& closest,
+                           double corridor_half_width_m, Visit&& visit) const {
   if (count_ == 0) return;
   const double af = seg.begin.forward_m;
   const double as = seg.begin.starboard_m;
@@ -133,8 +123,6 @@ void AngleBins::visit_bins(const perception::ObstacleSegment& seg, double corrid
     return;
   }
   const double r = std::max(0.0, corridor_half_width_m);
-  // Closest point of the whole segment to the body origin.
-  const Closest closest = closest_to_origin(af, as, df, ds);
   const double t_star = closest.t;
   const double d_min = closest.d_m;
 
@@ -189,14 +177,21 @@ void AngleBins::fill(const perception::ObstacleList& list, double corridor_half_
     const auto& seg = list.segments[k];
     const double df = seg.end.forward_m - seg.begin.forward_m;
     const double ds = seg.end.starboard_m - seg.begin.starboard_m;
-    if (closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds).d_m <= max_range_m) {
-      add_segment(seg, corridor_half_width_m);
-    }
+    const Closest closest = closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds);
+    if (closest.d_m <= max_range_m) add_segment(seg, closest, corridor_half_width_m);
   }
 }
 
 void AngleBins::add_segment(const perception::ObstacleSegment& seg, double corridor_half_width_m) {
-  visit_bins(seg, corridor_half_width_m,
+  const double df = seg.end.forward_m - seg.begin.forward_m;
+  const double ds = seg.end.starboard_m - seg.begin.starboard_m;
+  add_segment(seg, closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds),
+              corridor_half_width_m);
+}
+
+void AngleBins::add_segment(const perception::ObstacleSegment& seg, const Closest& closest,
+                            double corridor_half_width_m) {
+  visit_bins(seg, closest, corridor_half_width_m,
              [this](std::size_t j, double d_min, double pf, double ps, bool at_closest) {
                if (at_closest) {
                  range_m_[j] = std::min(range_m_[j], d_min);  // the same point, the same hypot()
@@ -216,32 +211,52 @@ double AngleBins::nearest_m(const perception::ObstacleList& list, double corrido
   // skips is above the bin's, so above the least of all): the least over all bins is the least
   // over every (segment, bin) pair, in any order. A segment gives no distance below its own
   // closest point's (but for rounding), so the segments are taken nearest first and the search
-  // stops at the first that cannot come closer than what was found.
+  // stops at the first that cannot come closer than what was found. They are ordered by squared
+  // distances (the same order but for rounding, which the margins cover); hypot() only for
+  // those visited.
   const std::uint32_t n = std::min<std::uint32_t>(
       list.count, static_cast<std::uint32_t>(perception::ObstacleList::kMaxSegments));
-  std::array<double, perception::ObstacleList::kMaxSegments> closest_m{};
+  std::array<double, perception::ObstacleList::kMaxSegments> closest_t{};
+  std::array<double, perception::ObstacleList::kMaxSegments> closest_sq{};
   std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> order{};
+  const double max_sq = max_range_m * max_range_m * (1.0 + 1e-9);
   std::uint32_t m = 0;
   for (std::uint32_t k = 0; k < n; ++k) {
     const auto& seg = list.segments[k];
-    const double df = seg.end.forward_m - seg.begin.forward_m;
-    const double ds = seg.end.starboard_m - seg.begin.starboard_m;
-    const double d = closest_to_origin(seg.begin.forward_m, seg.begin.starboard_m, df, ds).d_m;
-    if (!(d <= max_range_m)) continue;
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double df = seg.end.forward_m - af;
+    const double ds = seg.end.starboard_m - as;
+    const double dd = df * df + ds * ds;
+    // closest_to_origin()'s parameter, the same arithmetic.
+    const double t = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
+    const double x = af + t * df;
+    const double y = as + t * ds;
+    const double sq = x * x + y * y;
+    if (!(sq <= max_sq)) continue;
+    closest_t[k] = t;
     // Insertion by distance (a list of at most kMaxSegments, mostly a few dozen).
     std::uint32_t at = m++;
-    while (at > 0 && closest_m[at - 1] > d) {
-      closest_m[at] = closest_m[at - 1];
+    while (at > 0 && closest_sq[at - 1] > sq) {
+      closest_sq[at] = closest_sq[at - 1];
       order[at] = order[at - 1];
       --at;
     }
-    closest_m[at] = d;
+    closest_sq[at] = sq;
     order[at] = static_cast<std::uint16_t>(k);
   }
   double nearest = kNoObstacle;
   for (std::uint32_t i = 0; i < m; ++i) {
-    if (closest_m[i] > nearest * (1.0 + 1e-9) + 1e-12) break;
-    visit_bins(list.segments[order[i]], corridor_half_width_m,
+    const double limit = (nearest * (1.0 + 1e-9) + 1e-12) * (1.0 + 1e-9);
+    if (closest_sq[i] > limit * limit) break;
+    const auto& seg = list.segments[order[i]];
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double t = closest_t[order[i]];
+    const Closest closest{
+        t, std::hypot(af + t * (seg.end.forward_m - af), as + t * (seg.end.starboard_m - as))};
+    if (!(closest.d_m <= max_range_m)) continue;
+    visit_bins(seg, closest, corridor_half_width_m,
                [&nearest](std::size_t, double d_min, double pf, double ps, bool at_closest) {
                  nearest = std::min(nearest, at_closest ? d_min : std::hypot(pf, ps));
                });

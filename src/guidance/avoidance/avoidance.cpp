@@ -15,14 +15,22 @@ namespace coxswain::guidance {
 namespace {
 
 using core::lanes::abs2;
+using core::lanes::abs4;
 using core::lanes::all2;
 using core::lanes::any2;
+using core::lanes::bits4;
 using core::lanes::load2;
+using core::lanes::load4;
+using core::lanes::load4i;
 using core::lanes::max2;
+using core::lanes::max4;
 using core::lanes::splat2;
+using core::lanes::splat4;
 using core::lanes::store2;
 using core::lanes::V2d;
 using core::lanes::V2i;
+using core::lanes::V4f;
+using core::lanes::V4i;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTieEps = 1e-9;
@@ -204,9 +212,36 @@ V2d point_segment_sq2(V2d pf, V2d ps, V2d af, V2d as, V2d df, V2d ds, V2d inv_dd
   return ef * ef + es * es;
 }
 
+// point_segment_sq() for four points at once in floats.
+V4f point_segment_sq4(V4f pf, V4f ps, V4f af, V4f as, V4f df, V4f ds, V4f inv_dd) {
+  const V4f zero = splat4(0.0F);
+  const V4f one = splat4(1.0F);
+  const V4f wf = pf - af;
+  const V4f ws = ps - as;
+  V4f t = (wf * df + ws * ds) * inv_dd;
+  t = t < zero ? zero : t;
+  t = one < t ? one : t;
+  const V4f ef = wf - t * df;
+  const V4f es = ws - t * ds;
+  return ef * ef + es * es;
+}
+
 // Margin of the culling tests: far above rounding (1e-15 m at these sizes), far below anything
 // that matters, so a culled pair is one the exact test would have passed over too.
 constexpr double kCullEps = 1e-6;
+// The same for the culling tests in floats: far above their rounding (1e-4 m at most within
+// kLaneLimitM).
+constexpr double kLaneEpsM = 1e-3;
+// Where the float tables put what is not there (steps past the last): far beyond any reach,
+// its square still finite.
+constexpr float kFarOffM = 1e15F;
+
+// Within this, the culling tests' float rounding stays below 1e-4 m.
+constexpr double kLaneLimitM = 100.0;
+bool within_lanes(double af, double as, double bf, double bs) {
+  return std::abs(af) <= kLaneLimitM && std::abs(as) <= kLaneLimitM &&
+         std::abs(bf) <= kLaneLimitM && std::abs(bs) <= kLaneLimitM;
+}
 
 }  // namespace
 
@@ -367,6 +402,34 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
     }
     blk.ahead_m = std::max(0.0, params.detection_range_m - shortest_arc_m);
   }
+  // The same, as floats for the culling tests.
+  lanes_usable_ = params.detection_range_m <= kLaneLimitM;
+  for (std::size_t j = 0; j < bin_lanes_.arc_len_m.size(); ++j) {
+    const bool bin = j < n_bins;
+    bin_lanes_.arc_end_f_m[j] = bin ? static_cast<float>(arc_end_f_m_[j]) : 0.0F;
+    bin_lanes_.arc_end_s_m[j] = bin ? static_cast<float>(arc_end_s_m_[j]) : 0.0F;
+    bin_lanes_.cos[j] = bin ? static_cast<float>(arc_cos_[j]) : 1.0F;
+    bin_lanes_.sin[j] = bin ? static_cast<float>(arc_sin_[j]) : 0.0F;
+    bin_lanes_.arc_len_m[j] =
+        bin ? static_cast<float>(arc_len_m_[j]) : std::numeric_limits<float>::infinity();
+    if (bin && (std::abs(arc_end_f_m_[j]) > kLaneLimitM ||
+                std::abs(arc_end_s_m_[j]) > kLaneLimitM || arc_len_m_[j] > kLaneLimitM)) {
+      lanes_usable_ = false;
+    }
+  }
+  for (std::size_t b = 0; b < block_count_; ++b) {
+    const BinBlock& blk = blocks_[b];
+    block_lanes_.origin_f_m[b] = static_cast<float>(blk.origin_f_m);
+    block_lanes_.origin_s_m[b] = static_cast<float>(blk.origin_s_m);
+    block_lanes_.reach_m[b] = static_cast<float>(blk.ahead_m + blk.radius_m);
+    block_lanes_.radius_m[b] = static_cast<float>(blk.radius_m);
+    block_lanes_.lo_cos[b] = static_cast<float>(blk.lo_cos);
+    block_lanes_.lo_sin[b] = static_cast<float>(blk.lo_sin);
+    block_lanes_.hi_cos[b] = static_cast<float>(blk.hi_cos);
+    block_lanes_.hi_sin[b] = static_cast<float>(blk.hi_sin);
+    block_lanes_.wedge[b] = blk.wedge ? -1 : 0;
+    block_lanes_.live[b] = -1;
+  }
   // The swept hull's poses, step by step, with the same arithmetic the check used to do per
   // call (so the same turns come out).
   const HullBox box{params.bow_ahead_m - params.hull_length_m, params.bow_ahead_m,
@@ -409,6 +472,13 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
       w.origin_s_m[k] = os;
       w.box_f_m[k] = of + box_mid_m * c;
       w.box_s_m[k] = os + box_mid_m * sn;
+      if (std::abs(w.box_f_m[k]) > kLaneLimitM || std::abs(w.box_s_m[k]) > kLaneLimitM) {
+        lanes_usable_ = false;
+      }
+    }
+    for (std::size_t k = 0; k < w.lane_box_f_m.size(); ++k) {
+      w.lane_box_f_m[k] = k < w.all_steps ? static_cast<float>(w.box_f_m[k]) : kFarOffM;
+      w.lane_box_s_m[k] = k < w.all_steps ? static_cast<float>(w.box_s_m[k]) : kFarOffM;
     }
   }
 }
@@ -696,6 +766,35 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
       to_future(seg.end, fb, sb);
       return segment_box_closer_than(fa, sa, fb, sb, box, sweep_room_m_[i]);
     };
+    if (lanes_usable_ && within_lanes(af, as, seg.end.forward_m, seg.end.starboard_m)) {
+      // Four steps at a time in floats, the reach widened by kLaneEpsM (a segment shorter than
+      // 1e-6 m is taken as its first end, which moves it less than that).
+      const V4f v_af = splat4(static_cast<float>(af));
+      const V4f v_as = splat4(static_cast<float>(as));
+      const V4f v_df = splat4(static_cast<float>(df));
+      const V4f v_ds = splat4(static_cast<float>(ds));
+      const V4f v_inv = splat4(dd > 1e-12 ? static_cast<float>(inv_dd) : 0.0F);
+      const auto lane_reach = static_cast<float>(reach + kLaneEpsM);
+      const V4f v_reach_sq = splat4(lane_reach * lane_reach);
+      for (std::size_t k = 0; k < first_hit; k += 4) {
+        const V4f near = point_segment_sq4(load4(&w.lane_box_f_m[k]), load4(&w.lane_box_s_m[k]),
+                                           v_af, v_as, v_df, v_ds, v_inv);
+        const unsigned in = bits4(near <= v_reach_sq);
+        if (in == 0) continue;
+        std::size_t hit = first_hit;
+        for (std::size_t lane = 0; lane < 4 && k + lane < first_hit; ++lane) {
+          if ((in & (1U << lane)) != 0 && touches(k + lane)) {
+            hit = k + lane;
+            break;
+          }
+        }
+        if (hit < first_hit) {
+          first_hit = hit;
+          break;
+        }
+      }
+      continue;
+    }
     const V2d v_af = splat2(af);
     const V2d v_as = splat2(as);
     const V2d v_df = splat2(df);
@@ -739,7 +838,10 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
   const double w = params_.half_beam_m + params_.clearance_m;
   const bool capped = params_.strategy != Strategy::kRiskBin;
   const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
-  for (std::size_t j = 0; j < n_bins; ++j) range_m_[j] = start_m;
+  for (std::size_t j = 0; j < n_bins; ++j) {
+    range_m_[j] = start_m;
+    bin_lanes_.range_m[j] = static_cast<float>(start_m);
+  }
   const double reach = capped
                            ? path_reach_m_
                            : params_.detection_range_m + params_.sweep_turn_radius_m * core::kPi +
@@ -751,63 +853,82 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
     if (!ends) continue;
     const auto [af, as, bf, bs] = *ends;
     if (point_segment_farther_than(0.0, 0.0, af, as, bf, bs, reach)) continue;
-    // The segment's bounding circle first decides which bins it can reach at all: whole
-    // blocks of bins by their wedge, then each bin by its corridor (within the half-width of
-    // its centre line, not wholly behind the turn's end, near enough to lower its range).
-    const double mid_f = 0.5 * (af + bf);
-    const double mid_s = 0.5 * (as + bs);
-    const double half_len = 0.5 * std::sqrt((bf - af) * (bf - af) + (bs - as) * (bs - as));
-    const double lateral = w + half_len + kCullEps;
-    const double behind = -(half_len + kCullEps);
-    const double near_back = half_len + kCullEps;
-    const V2d v_mid_f = splat2(mid_f);
-    const V2d v_mid_s = splat2(mid_s);
-    const V2d v_lateral = splat2(lateral);
-    const V2d v_behind = splat2(behind);
-    const V2d v_near_back = splat2(near_back);
-    const V2d v_zero = splat2(0.0);
-    for (std::size_t b = 0; b < block_count_; ++b) {
-      const BinBlock& blk = blocks_[b];
-      const double qf = mid_f - blk.origin_f_m;  // the segment's middle from the block's origin
-      const double qs = mid_s - blk.origin_s_m;
-      if (capped) {
-        // A bin lowered by the segment has its middle within `lateral` of the corridor's centre
-        // line, between `behind` and ahead_m + near_back along it from the bin's arc end: within
-        // their sum of that arc end, so within that plus radius_m of the block's origin.
-        const double bound = blk.ahead_m + near_back + lateral + blk.radius_m + kCullEps;
-        if (qf * qf + qs * qs > bound * bound) continue;
-      }
-      if (blk.wedge) {
-        const double margin = blk.radius_m + lateral;
-        if (blk.lo_cos * qs - blk.lo_sin * qf < -margin) continue;  // to port of the wedge
-        if (blk.hi_cos * qs - blk.hi_sin * qf > margin) continue;   // to starboard of it
-      }
-      const std::size_t j_end = std::min(n_bins, (b + 1) * kBlockBins);
-      std::size_t j = b * kBlockBins;
-      for (; j + 1 < j_end; j += 2) {  // two bins at a time; most are passed over
-        const V2d pf_mid = v_mid_f - load2(&arc_end_f_m_[j]);
-        const V2d ps_mid = v_mid_s - load2(&arc_end_s_m_[j]);
-        const V2d c = load2(&arc_cos_[j]);
-        const V2d sn = load2(&arc_sin_[j]);
-        const V2d f_mid = pf_mid * c + ps_mid * sn;
-        const V2d s_mid = -pf_mid * sn + ps_mid * c;
-        const V2i in =
-            (abs2(s_mid) <= v_lateral) & (f_mid >= v_behind) &
-            (load2(&arc_len_m_[j]) + max2(v_zero, f_mid - v_near_back) < load2(&range_m_[j]));
-        if (!any2(in)) continue;
-        if (in[0] != 0) path_range_exact(j, af, as, bf, bs, w);
-        if (in[1] != 0) path_range_exact(j + 1, af, as, bf, bs, w);
-      }
-      for (; j < j_end; ++j) {
-        const double pf_mid = mid_f - arc_end_f_m_[j];
-        const double ps_mid = mid_s - arc_end_s_m_[j];
-        const double f_mid = pf_mid * arc_cos_[j] + ps_mid * arc_sin_[j];
-        const double s_mid = -pf_mid * arc_sin_[j] + ps_mid * arc_cos_[j];
-        if (std::abs(s_mid) > lateral || f_mid < behind ||
-            !(arc_len_m_[j] + std::max(0.0, f_mid - near_back) < range_m_[j])) {
-          continue;
+    if (lanes_usable_ && within_lanes(af, as, bf, bs)) {
+      cull_path_ranges(af, as, bf, bs, w, capped);
+    } else {
+      for (std::size_t j = 0; j < n_bins; ++j) path_range_exact(j, af, as, bf, bs, w);
+    }
+  }
+}
+
+void Avoidance::cull_path_ranges(double af, double as, double bf, double bs, double w,
+                                 bool capped) {
+  // The segment's bounding circle first decides which bins it can reach at all: whole blocks
+  // of bins by their wedge, then each bin by its corridor (within the half-width of its centre
+  // line, not wholly behind the turn's end, near enough to lower its range). Every bound is
+  // widened by kLaneEpsM, so float rounding (under 1e-4 m within kLaneLimitM) never culls a bin
+  // the exact test would lower.
+  const double half_len = 0.5 * std::sqrt((bf - af) * (bf - af) + (bs - as) * (bs - as));
+  const auto mid_f = static_cast<float>(0.5 * (af + bf));
+  const auto mid_s = static_cast<float>(0.5 * (as + bs));
+  const auto lateral = static_cast<float>(w + half_len + kLaneEpsM);
+  const auto near_back = static_cast<float>(half_len + kLaneEpsM);
+  const auto eps = static_cast<float>(kLaneEpsM);
+  const V4f v_mid_f = splat4(mid_f);
+  const V4f v_mid_s = splat4(mid_s);
+  const V4f v_zero = splat4(0.0F);
+  const V4f v_a_f = splat4(static_cast<float>(af));
+  const V4f v_a_s = splat4(static_cast<float>(as));
+  const V4f v_b_f = splat4(static_cast<float>(bf));
+  const V4f v_b_s = splat4(static_cast<float>(bs));
+  const V4f v_half_width = splat4(static_cast<float>(w + kLaneEpsM));
+  const V4f v_neg_eps = splat4(-eps);
+  // A bin lowered by the segment has its middle within `lateral` of the corridor's centre line,
+  // between `behind` and ahead_m + near_back along it from the bin's arc end: within their sum
+  // of that arc end, so within that plus radius_m of the block's origin.
+  const V4f v_bound_extra = splat4(near_back + lateral + eps);
+  const V4f v_wedge_extra = splat4(lateral + eps);
+  const BlockLanes& bl = block_lanes_;
+  for (std::size_t b = 0; b < block_count_; b += 4) {
+    const V4f qf = v_mid_f - load4(&bl.origin_f_m[b]);  // the middle from each block's origin
+    const V4f qs = v_mid_s - load4(&bl.origin_s_m[b]);
+    V4i pass = load4i(&bl.live[b]);
+    if (capped) {
+      const V4f bound = load4(&bl.reach_m[b]) + v_bound_extra;
+      pass &= qf * qf + qs * qs <= bound * bound;
+    }
+    const V4f margin = load4(&bl.radius_m[b]) + v_wedge_extra;
+    const V4i outside = (load4(&bl.lo_cos[b]) * qs - load4(&bl.lo_sin[b]) * qf < -margin) |
+                        (load4(&bl.hi_cos[b]) * qs - load4(&bl.hi_sin[b]) * qf > margin);
+    pass &= ~(outside & load4i(&bl.wedge[b]));
+    const unsigned blocks = bits4(pass);
+    if (blocks == 0) continue;
+    for (std::size_t lane = 0; lane < 4; ++lane) {
+      if ((blocks & (1U << lane)) == 0) continue;
+      const std::size_t j0 = (b + lane) * kBlockBins;
+      for (std::size_t j = j0; j < j0 + kBlockBins; j += 4) {  // bins past the last never pass
+        const V4f c = load4(&bin_lanes_.cos[j]);
+        const V4f sn = load4(&bin_lanes_.sin[j]);
+        const V4f ef = load4(&bin_lanes_.arc_end_f_m[j]);
+        const V4f es = load4(&bin_lanes_.arc_end_s_m[j]);
+        const V4f pa_f = v_a_f - ef;
+        const V4f pa_s = v_a_s - es;
+        const V4f pb_f = v_b_f - ef;
+        const V4f pb_s = v_b_s - es;
+        const V4f f0 = pa_f * c + pa_s * sn;
+        const V4f s0 = pa_s * c - pa_f * sn;
+        const V4f f1 = pb_f * c + pb_s * sn;
+        const V4f s1 = pb_s * c - pb_f * sn;
+        const V4i out = ((s0 > v_half_width) & (s1 > v_half_width)) |
+                        ((s0 < -v_half_width) & (s1 < -v_half_width)) |
+                        ((f0 < v_neg_eps) & (f1 < v_neg_eps)) |
+                        (load4(&bin_lanes_.arc_len_m[j]) + max4(v_zero, (f0 < f1 ? f0 : f1)) >=
+                         load4(&bin_lanes_.range_m[j]) + splat4(eps));
+        const unsigned near = bits4(~out);
+        if (near == 0) continue;
+        for (std::size_t i = 0; i < 4; ++i) {
+          if ((near & (1U << i)) != 0) path_range_exact(j + i, af, as, bf, bs, w);
         }
-        path_range_exact(j, af, as, bf, bs, w);
       }
     }
   }
@@ -830,6 +951,9 @@ void Avoidance::path_range_exact(std::size_t j, double af, double as, double bf,
   double t_lo = 0.0;
   double t_hi = 1.0;
   const auto keep = [&](double v0, double v1) {  // keeps v(t) = v0 + (v1 - v0) t >= 0
+    // Both ends kept: the root lies outside (0, 1) whatever the rounding (|dv| <= the larger
+    // end), so neither t_lo nor t_hi would move; the division is skipped.
+    if (v0 >= 0.0 && v1 >= 0.0) return;
     const double dv = v1 - v0;
     if (std::abs(dv) < 1e-15) {
       if (v0 < 0.0) t_lo = 2.0;
@@ -848,6 +972,7 @@ void Avoidance::path_range_exact(std::size_t j, double af, double as, double bf,
   if (t_lo > t_hi) return;
   const double f_near = std::min(f0 + (f1 - f0) * t_lo, f0 + (f1 - f0) * t_hi);
   range_m_[j] = std::min(range_m_[j], arc_len_m_[j] + std::max(0.0, f_near));
+  bin_lanes_.range_m[j] = static_cast<float>(range_m_[j]);
 }
 
 void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "coxswain/core/angles.hpp"
 #include "support/obstacles.hpp"
@@ -438,6 +439,103 @@ TEST(SweptHull, AsternRoomIsTheWaterBehindTheStern) {
   // A wall alongside, 0.4 m off the side, is not astern.
   const auto alongside = list_of({segment(stern_m, p.half_beam_m + 0.4, 0.0, p.half_beam_m + 0.4)});
   EXPECT_NEAR(a.astern_room_m(alongside, 0.6), 0.4, 1e-9);
+}
+
+// Bin j's path range worked out the long way: every segment against the corridor (half-width
+// w) that starts where the turn onto the bin's heading ends, nothing skipped.
+double path_range_the_long_way(const AvoidanceParams& p, double center_deg,
+                               const ObstacleList& list, double start_m, double reach_m) {
+  const double a = core::deg_to_rad(std::min(std::abs(center_deg), 180.0));
+  const double sign = center_deg < 0.0 ? -1.0 : 1.0;
+  const double c = std::cos(a);
+  const double sn = sign * std::sin(a);
+  const double r = p.sweep_turn_radius_m;
+  const double end_f = p.pivot_ahead_m + r * std::sin(a) - p.pivot_ahead_m * c;
+  const double end_s = sign * r * (1.0 - c) - p.pivot_ahead_m * sn;
+  const double w = p.half_beam_m + p.clearance_m;
+  double range = start_m;
+  for (std::uint32_t k = 0; k < list.count; ++k) {
+    const ObstacleSegment& seg = list.segments[k];
+    const double af = seg.begin.forward_m;
+    const double as = seg.begin.starboard_m;
+    const double bf = seg.end.forward_m;
+    const double bs = seg.end.starboard_m;
+    // The segment's nearest point to the boat, for the reach.
+    const double df = bf - af;
+    const double ds = bs - as;
+    const double dd = df * df + ds * ds;
+    const double t0 = dd > 0.0 ? std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0) : 0.0;
+    if (std::hypot(af + t0 * df, as + t0 * ds) > reach_m) continue;
+    const auto to_f = [&](double f, double s) { return (f - end_f) * c + (s - end_s) * sn; };
+    const auto to_s = [&](double f, double s) { return -(f - end_f) * sn + (s - end_s) * c; };
+    const double f0 = to_f(af, as);
+    const double s0 = to_s(af, as);
+    const double f1 = to_f(bf, bs);
+    const double s1 = to_s(bf, bs);
+    double lo = 0.0;
+    double hi = 1.0;
+    for (const auto& [v0, v1] : {std::pair{w + s0, w + s1}, std::pair{w - s0, w - s1},
+                                 std::pair{f0, f1}}) {  // keep v0 + (v1 - v0) t >= 0
+      if (v0 < 0.0 && v1 < 0.0) lo = 2.0;
+      if (v0 < 0.0 && v1 >= 0.0) lo = std::max(lo, v0 / (v0 - v1));
+      if (v0 >= 0.0 && v1 < 0.0) hi = std::min(hi, v0 / (v0 - v1));
+    }
+    if (lo > hi) continue;
+    const double f_near = std::min(f0 + (f1 - f0) * lo, f0 + (f1 - f0) * hi);
+    range = std::min(range, r * a + std::max(0.0, f_near));
+  }
+  return range;
+}
+
+// The path ranges skip most (segment, bin) pairs by cheap tests in floats before the exact one:
+// whatever they skip, every range is the one the exact test gives on every pair. Buoys, walls,
+// segments reaching past 100 m (tested exactly) and points, on a half fan and a full circle.
+TEST(SweptHull, PathRangesAreTheExactOnesWhateverTheCullingSkips) {
+  std::mt19937_64 rng(20261129);
+  std::uniform_real_distribution<double> near_m(-14.0, 14.0);
+  std::uniform_real_distribution<double> far_m(-160.0, 160.0);
+  std::uniform_real_distribution<double> length_m(0.05, 1.0);
+  std::uniform_real_distribution<double> angle(-3.2, 3.2);
+  for (const bool full_circle : {false, true}) {
+    for (const Strategy strategy : {Strategy::kScore, Strategy::kRiskBin}) {
+      AvoidanceParams p = swept();
+      p.strategy = strategy;
+      if (full_circle) {
+        p.fan.min_deg = -180.0;
+        p.fan.max_deg = 180.0;
+        p.fan.bin_width_deg = 0.5;
+        p.pivot_ahead_m = 0.9;
+      }
+      Avoidance a = make(strategy, p);
+      const bool capped = strategy != Strategy::kRiskBin;
+      const double start_m = capped ? p.detection_range_m : AngleBins::kNoObstacle;
+      const double reach_m = capped ? 1e9
+                                    : p.detection_range_m + p.sweep_turn_radius_m * core::kPi +
+                                          std::abs(p.pivot_ahead_m);
+      for (int scene = 0; scene < 60; ++scene) {
+        ObstacleList list;
+        for (int k = 0; k < 40; ++k) {
+          const double f = near_m(rng);
+          const double s = near_m(rng);
+          const double heading = angle(rng);
+          const double len = k % 5 == 0 ? 12.0 : length_m(rng);  // a wall, or a buoy
+          ObstacleSegment seg =
+              segment(f, s, f + len * std::cos(heading), s + len * std::sin(heading));
+          if (k % 5 == 1) seg = segment(f, s, far_m(rng), far_m(rng));  // reaching far off
+          if (k % 5 == 2) seg = segment(f, s, f, s);                    // a point
+          ASSERT_TRUE(list.push(seg));
+        }
+        (void)a.decide(list, 0.0, scene * 100'000'000LL);
+        for (std::size_t j = 0; j < a.bins().size(); ++j) {
+          const double want =
+              path_range_the_long_way(p, a.bins().center_deg(j), list, start_m, reach_m);
+          ASSERT_NEAR(a.path_range_m(j), want, 1e-9 * std::max(1.0, want))
+              << "bin " << j << " (" << a.bins().center_deg(j) << " deg), scene " << scene
+              << (full_circle ? ", full circle" : ", half fan") << ", " << to_string(strategy);
+        }
+      }
+    }
+  }
 }
 
 TEST(SweptHull, OnByDefaultAndRejectsBadGeometry) {
