@@ -167,6 +167,35 @@ TEST(ReadLines, RejectsLinesWhoseFieldsHaveTheWrongTypes) {
   }
 }
 
+// A run whose mission declared itself finished while the judge saw the course not completed is
+// counted apart: the one failure a team cannot see from the boat.
+TEST(Summary, CountsTheRunsThatFinishedWithTheCourseNotCompleted) {
+  std::vector<nlohmann::json> runs;
+  runs.push_back({{"seed", 1U},
+                  {"passed", true},
+                  {"completed", true},
+                  {"mission_state", "finished"},
+                  {"collisions", 0}});
+  runs.push_back({{"seed", 2U},
+                  {"passed", false},
+                  {"completed", false},
+                  {"mission_state", "finished"},
+                  {"collisions", 1}});
+  runs.push_back({{"seed", 3U},
+                  {"passed", false},
+                  {"completed", false},
+                  {"mission_state", "obstacle_course/navigate"},
+                  {"collisions", 0}});
+  const nlohmann::json s = sim::batch::summarize(runs, "gapwall", false);
+  EXPECT_EQ(s["false_finishes"].get<int>(), 1);
+  EXPECT_EQ(s["zero_collision_runs"].get<int>(), 2);
+  std::istringstream in(R"({"seed": 4, "mission_state": 3})");
+  sim::batch::Collected c;
+  std::string why;
+  EXPECT_FALSE(sim::batch::read_lines(in, "bad", c, &why));
+  EXPECT_NE(why.find("mission_state"), std::string::npos) << why;
+}
+
 TEST(SetParameter, SetsANamedParameterWithinItsRange) {
   config::MissionConfig m;
   EXPECT_EQ(sim::batch::set_parameter_assignment(m, "avoidance.clearance_m=0.8"), "");

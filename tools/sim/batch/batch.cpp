@@ -63,8 +63,10 @@ std::string field_types_problem(const nlohmann::json& j) {
   for (const char* key : {"collisions", "shard", "shards", "runs_total"}) {
     if (!is(key, integer)) return std::string(key) + " is not a whole number";
   }
-  if (!is("kind", [](const nlohmann::json& v) { return v.is_string(); })) {
-    return "kind is not a string";
+  for (const char* key : {"kind", "mission_state"}) {
+    if (!is(key, [](const nlohmann::json& v) { return v.is_string(); })) {
+      return std::string(key) + " is not a string";
+    }
   }
   return {};
 }
@@ -147,6 +149,8 @@ nlohmann::json summarize(std::vector<nlohmann::json> lines, const std::string& k
   int passed = 0;
   int collisions = 0;
   int zero = 0;
+  int false_finishes =
+      0;  // the mission declared itself done; the judge saw the course not completed
   double contest_sum_s = 0.0;
   std::vector<double> times;
   std::vector<double> scores;
@@ -157,6 +161,9 @@ nlohmann::json summarize(std::vector<nlohmann::json> lines, const std::string& k
     const int c = j.value("collisions", 0);
     collisions += c;
     if (c == 0 && !j.contains("error")) ++zero;
+    if (!j.value("completed", false) && j.value("mission_state", std::string()) == "finished") {
+      ++false_finishes;
+    }
     if (ok) {
       times.push_back(j.value("elapsed_s", 0.0));
       scores.push_back(j.value("score_s", 0.0));
@@ -175,6 +182,7 @@ nlohmann::json summarize(std::vector<nlohmann::json> lines, const std::string& k
           {"collisions", collisions},
           {"zero_collision_runs", zero},
           {"zero_collision_rate", rounded(zero / n, 4)},
+          {"false_finishes", false_finishes},
           {"time_p50_s", rounded(percentile(times, 0.5))},
           {"time_p90_s", rounded(percentile(times, 0.9))},
           {"score_p50_s", rounded(percentile(scores, 0.5))},
