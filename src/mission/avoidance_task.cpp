@@ -70,6 +70,7 @@ class AvoidanceTask final : public AvoidingTask {
     gate_ = {};
     passed_count_ = 0;
     have_prev_ = false;
+    confirm_past_m_ = -1.0;
     last_plan_ns_ = core::kNeverNs;
     if (ctx.plan != nullptr) taken_plans_ = ctx.plan->made;  // plans made before are not ours
     no_path_ = false;
@@ -238,6 +239,12 @@ class AvoidanceTask final : public AvoidingTask {
     return n;
   }
 
+  /// The stern's position on the estimate.
+  [[nodiscard]] core::NavPoint stern_of(const TaskContext& ctx) const {
+    const guidance::AvoidanceParams& hull = avoidance_->params();
+    return core::body_to_nav(ctx.pose, {hull.bow_ahead_m - hull.hull_length_m, 0.0});
+  }
+
   [[nodiscard]] double gate_side(const GateTrack& g, core::NavPoint p) const {
     const core::NavPoint n = gate_normal(g);
     const core::NavPoint c = g.mid();
@@ -334,6 +341,7 @@ class AvoidanceTask final : public AvoidingTask {
     ++index_;
     gate_ = {};
     have_prev_ = false;
+    confirm_past_m_ = -1.0;
     last_plan_ns_ = core::kNeverNs;
   }
 
@@ -346,7 +354,27 @@ class AvoidanceTask final : public AvoidingTask {
       // gate, whose crossing must lie inside its ends by k sigma of the estimate.
       const GateTrack g = judged_gate();
       const double side = gate_side(g, p);
-      if (have_prev_ && prev_by_lidar_ != gate_.seen) have_prev_ = false;  // another line
+      if (have_prev_ && prev_by_lidar_ != gate_.seen) {  // another line
+        have_prev_ = false;
+        confirm_past_m_ = -1.0;
+      }
+      if (confirm_past_m_ >= 0.0) {
+        // Crossed between the ends: counted once the stern is past the line too, on the
+        // estimate confidently so (else a boat stopping at the finish may stop short of it).
+        if (gate_side(g, stern_of(ctx)) >= confirm_past_m_) {
+          confirm_past_m_ = -1.0;
+          set_reason(confirm_reason_.view());
+          if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
+            set_phase(course1_ ? "to_waypoint" : "navigate", reason());
+          }
+          next_waypoint(ctx, true);
+          return index_ >= route_.count;
+        }
+        if (side < 0.0) confirm_past_m_ = -1.0;  // back before the line: cross it again
+        prev_ = p;
+        prev_side_ = side;
+        return false;
+      }
       if (have_prev_ && prev_side_ < 0.0 && side >= 0.0) {
         const double f = prev_side_ / (prev_side_ - side);
         const core::NavPoint x{prev_.north_m + f * (p.north_m - prev_.north_m),
@@ -364,6 +392,22 @@ class AvoidanceTask final : public AvoidingTask {
         if (across >= margin && across <= width - margin) {
           set_reason(reason_printf("passed gate %zu between its %s (%s, %.0f%% across)", index_ + 1,
                                    gate_.seen ? "buoys" : "ends", by, 100.0 * across / width));
+          double past_m = 0.0;
+          if (!gate_.seen && ctx.position_cov_valid && wp_.arrival_confidence > 0.0) {
+            const core::NavPoint n = gate_normal(g);
+            past_m = k_sigma_ * ctx.position_cov.sigma_along_m(
+                                    core::rad_to_deg(std::atan2(n.east_m, n.north_m)));
+          }
+          if (gate_side(g, stern_of(ctx)) < past_m) {
+            confirm_past_m_ = past_m;
+            confirm_reason_ =
+                reason_printf("%s, stern %.1f m past it", reason().chars.data(), past_m);
+            prev_ = p;
+            prev_side_ = side;
+            prev_by_lidar_ = gate_.seen;
+            have_prev_ = true;
+            return false;
+          }
           if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
             set_phase(course1_ ? "to_waypoint" : "navigate", reason());
           }
@@ -427,7 +471,11 @@ class AvoidanceTask final : public AvoidingTask {
     // through the gate they mark.
     const double ahead =
         gate_.seen ? 1.5 : std::clamp(side + kGateLookaheadM, -gates_.approach_m, 1.5);
-    const double k = side < 0.0 ? ahead : -gates_.approach_m;
+    // Confirming a crossing: on through the gate, past where the stern must get.
+    const double k = confirm_past_m_ >= 0.0
+                         ? confirm_past_m_ + avoidance_->params().hull_length_m + 1.5
+                     : side < 0.0 ? ahead
+                                  : -gates_.approach_m;
     return {c.north_m + k * n.north_m, c.east_m + k * n.east_m};
   }
 
@@ -717,6 +765,10 @@ class AvoidanceTask final : public AvoidingTask {
   double prev_side_ = 0.0;
   // prev_side_ measured from the lidar's buoys (else from the nominal gate).
   bool prev_by_lidar_ = false;
+  // A crossing between the ends on the estimate waits for the estimate to be this far past the
+  // line (< 0: none waiting); the reason it will be counted with.
+  double confirm_past_m_ = -1.0;
+  ReasonText confirm_reason_;
   // Planning.
   core::TimeNs last_plan_ns_ = core::kNeverNs;
   core::NavPoint planned_goal_;

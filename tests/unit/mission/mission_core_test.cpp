@@ -660,6 +660,44 @@ TEST(MissionObstacleCourse, WithoutBuoysTheEstimateMustCrossTheGateForwardBetwee
   EXPECT_TRUE(rig->logged("passed gate 1 between its ends (GNSS")) << rig->log_text();
 }
 
+// A boat stops once the course is finished, so a gate crossed between its ends counts only once
+// the stern is past its line: by the lidar's buoys just past, by the estimate past by its
+// confidence margin (a point ahead of mid-hull may be over the line while the boat is not).
+TEST(MissionObstacleCourse, AGateCountsOnceTheSternIsPastItsLine) {
+  for (const bool by_lidar : {false, true}) {
+    SCOPED_TRACE(by_lidar ? "buoys in sight" : "judged on the estimate");
+    config::Configuration c = gate_config();
+    c.mission.planning.planner.enabled = false;
+    auto rig = std::make_unique<Rig>(c);
+    if (by_lidar) {
+      rig->world_buoys.push_back({{20.0, -1.5}, 0.2});
+      rig->world_buoys.push_back({{20.0, 1.5}, 0.2});
+    }
+    const auto sail = [&rig](core::NavPoint to, double heading_deg, double seconds) {
+      sail_scripted(*rig, to, heading_deg, seconds);
+    };
+    // The rig's position is the antenna's; the stern is this far behind it.
+    const double stern_m =
+        c.boat.hull.length_m - c.boat.hull.bow_overhang_m + c.boat.mounts.gnss.x_m;
+    ASSERT_GT(stern_m, 0.2);
+    rig->run_for(1.0);
+    // North at a steady 1 m/s through the gate's centre. The antenna over the line, the stern
+    // not: not yet.
+    sail({14.0, 0.0}, 0.0, 6.0);
+    sail({20.0 + 0.5 * stern_m, 0.0}, 0.0, 6.0 + 0.5 * stern_m);
+    EXPECT_FALSE(rig->out.status.finished) << rig->log_text();
+    EXPECT_FALSE(rig->logged("passed gate 1")) << rig->log_text();
+    EXPECT_EQ(rig->out.status.waypoints_missed, 0U);
+    // On until the stern is well past it: counted, and where the boat was between its ends.
+    sail({20.0 + stern_m + 2.0, 0.0}, 0.0, 0.5 * stern_m + 2.0);
+    EXPECT_TRUE(rig->out.status.finished) << rig->log_text();
+    EXPECT_TRUE(rig->logged(by_lidar ? "passed gate 1 between its buoys (lidar"
+                                     : "passed gate 1 between its ends (GNSS"))
+        << rig->log_text();
+    EXPECT_TRUE(rig->logged("m past it")) << rig->log_text();
+  }
+}
+
 // A hull held fast (its bow on a wall, say) while the task means to sail: with the planner and
 // without it, the task notices, stops, backs off, turns, then sails on; a boat that moves never
 // counts as stuck.
