@@ -274,7 +274,7 @@ std::string set_parameter(config::MissionConfig& mission, std::string_view key, 
   p.avoidance = mission.avoidance;
   p.speed = mission.speed;
   // set_tunable's reasons name the parameter already.
-  const std::string problem = mission::set_tunable(p, key, value);
+  std::string problem = mission::set_tunable(p, key, value);
   if (!problem.empty()) return problem;
   mission.heading_pid = p.heading_pid;
   mission.clustering = p.clustering;
@@ -312,9 +312,9 @@ std::string apply_overlay_text(config::MissionConfig& mission, const std::string
     }
     const std::string key = kv.first.Scalar();
     const auto value = parse_value(kv.second.Scalar());
-    if (!value) return name + ": " + key + ": the value is not a number";
-    const std::string problem = set_parameter(candidate, key, *value);
-    if (!problem.empty()) return name + ": " + problem;
+    std::string problem =
+        value ? set_parameter(candidate, key, *value) : key + ": the value is not a number";
+    if (!problem.empty()) return std::string(name).append(": ").append(problem);
   }
   mission = candidate;
   return {};
