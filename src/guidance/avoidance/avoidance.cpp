@@ -197,32 +197,19 @@ double point_segment_sq(double pf, double ps, double af, double as, double df, d
   return ef * ef + es * es;
 }
 
-// point_segment_sq() for two points at once, lane by lane the same arithmetic (std::clamp(v, 0,
-// 1) is v < 0 ? 0 : (1 < v ? 1 : v)).
-V2d point_segment_sq2(V2d pf, V2d ps, V2d af, V2d as, V2d df, V2d ds, V2d inv_dd) {
-  const V2d wf = pf - af;
-  const V2d ws = ps - as;
-  const V2d zero = splat2(0.0);
-  const V2d one = splat2(1.0);
-  V2d t = (wf * df + ws * ds) * inv_dd;
+// point_segment_sq() for two doubles or four floats at once, lane by lane the same arithmetic
+// (std::clamp(v, 0, 1) is v < 0 ? 0 : (1 < v ? 1 : v)).
+template <class V>
+V point_segment_sq_lanes(V pf, V ps, V af, V as, V df, V ds, V inv_dd) {
+  const V wf = pf - af;
+  const V ws = ps - as;
+  const V zero{};
+  const V one = zero + 1;
+  V t = (wf * df + ws * ds) * inv_dd;
   t = t < zero ? zero : t;
   t = one < t ? one : t;
-  const V2d ef = wf - t * df;
-  const V2d es = ws - t * ds;
-  return ef * ef + es * es;
-}
-
-// point_segment_sq() for four points at once in floats.
-V4f point_segment_sq4(V4f pf, V4f ps, V4f af, V4f as, V4f df, V4f ds, V4f inv_dd) {
-  const V4f zero = splat4(0.0F);
-  const V4f one = splat4(1.0F);
-  const V4f wf = pf - af;
-  const V4f ws = ps - as;
-  V4f t = (wf * df + ws * ds) * inv_dd;
-  t = t < zero ? zero : t;
-  t = one < t ? one : t;
-  const V4f ef = wf - t * df;
-  const V4f es = ws - t * ds;
+  const V ef = wf - t * df;
+  const V es = ws - t * ds;
   return ef * ef + es * es;
 }
 
@@ -777,8 +764,8 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
       const auto lane_reach = static_cast<float>(reach + kLaneEpsM);
       const V4f v_reach_sq = splat4(lane_reach * lane_reach);
       for (std::size_t k = 0; k < first_hit; k += 4) {
-        const V4f near = point_segment_sq4(load4(&w.lane_box_f_m[k]), load4(&w.lane_box_s_m[k]),
-                                           v_af, v_as, v_df, v_ds, v_inv);
+        const V4f near = point_segment_sq_lanes(
+            load4(&w.lane_box_f_m[k]), load4(&w.lane_box_s_m[k]), v_af, v_as, v_df, v_ds, v_inv);
         const unsigned in = bits4(near <= v_reach_sq);
         if (in == 0) continue;
         std::size_t hit = first_hit;
@@ -803,8 +790,8 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
     const V2d v_reach_sq = splat2(reach_sq);
     std::size_t k = 0;
     for (; k + 1 < first_hit; k += 2) {
-      const V2d near = point_segment_sq2(load2(&w.box_f_m[k]), load2(&w.box_s_m[k]), v_af, v_as,
-                                         v_df, v_ds, v_inv);
+      const V2d near = point_segment_sq_lanes(load2(&w.box_f_m[k]), load2(&w.box_s_m[k]), v_af,
+                                              v_as, v_df, v_ds, v_inv);
       const V2i in = near <= v_reach_sq;
       if (!any2(in)) continue;
       if (in[0] != 0 && touches(k)) {
