@@ -456,13 +456,18 @@ void emit_mission(YAML::Emitter& out, const MissionConfig& m) {
   out << YAML::EndSeq;
 }
 
+// Replay and devices mode rebuild the core from this text: every number must load back bit for
+// bit.
+void emit_numbers_exactly(YAML::Emitter& out) {
+  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
+  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
+}
+
 }  // namespace
 
 std::string to_yaml(const Configuration& c) {
   YAML::Emitter out;
-  // Replay rebuilds the core from this text: every double must load back bit for bit.
-  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
-  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
+  emit_numbers_exactly(out);
   out << YAML::BeginMap;
   out << YAML::Key << "boat" << YAML::Value << YAML::BeginMap;
   kv(out, "file", c.boat.file);
@@ -499,8 +504,7 @@ std::string to_yaml(const Configuration& c) {
 
 std::string mission_to_yaml(const MissionConfig& mission) {
   YAML::Emitter out;
-  out.SetDoublePrecision(std::numeric_limits<double>::max_digits10);
-  out.SetFloatPrecision(std::numeric_limits<float>::max_digits10);
+  emit_numbers_exactly(out);
   out << YAML::BeginMap;
   kv(out, "kind", "mission");
   emit_mission(out, mission);

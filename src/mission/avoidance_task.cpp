@@ -6,6 +6,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -70,7 +71,7 @@ class AvoidanceTask final : public AvoidingTask {
     gate_ = {};
     passed_count_ = 0;
     have_prev_ = false;
-    confirm_past_m_ = -1.0;
+    confirm_past_m_.reset();
     last_plan_ns_ = core::kNeverNs;
     if (ctx.plan != nullptr) taken_plans_ = ctx.plan->made;  // plans made before are not ours
     no_path_ = false;
@@ -80,7 +81,7 @@ class AvoidanceTask final : public AvoidingTask {
     manoeuvre_ = Manoeuvre::kNone;
     astern_holdoff_ns_ = core::kNeverNs;
     progress_.reset();
-    set_phase(course1_ ? "to_waypoint" : "navigate", "task entered");
+    set_phase(sailing_phase(), "task entered");
     return {};
   }
 
@@ -133,7 +134,7 @@ class AvoidanceTask final : public AvoidingTask {
       astern(ctx, aim, out);
     } else if (manoeuvre_ != Manoeuvre::kNone) {
       manoeuvre_ = Manoeuvre::kNone;  // no path to back along
-      set_phase(course1_ ? "to_waypoint" : "navigate", "no planned path: astern ends");
+      set_phase(sailing_phase(), "no planned path: astern ends");
     }
     out.speed_factor *= sight;
     return TaskResult::kRunning;
@@ -245,6 +246,31 @@ class AvoidanceTask final : public AvoidingTask {
     return core::body_to_nav(ctx.pose, {hull.bow_ahead_m - hull.hull_length_m, 0.0});
   }
 
+  /// The phase the task sails in between manoeuvres.
+  [[nodiscard]] const char* sailing_phase() const { return course1_ ? "to_waypoint" : "navigate"; }
+
+  /// How far inside a gate judged on the estimate a crossing must lie, along `bearing_deg`: k
+  /// sigma of the estimate; 0 with the buoys in sight or without the filter's covariance.
+  [[nodiscard]] double estimate_margin_m(const TaskContext& ctx, double bearing_deg) const {
+    if (gate_.seen || !ctx.position_cov_valid || !(wp_.arrival_confidence > 0.0)) return 0.0;
+    return k_sigma_ * ctx.position_cov.sigma_along_m(bearing_deg);
+  }
+
+  /// The gate passed (the reason already set): on to the next; true when the route is done.
+  bool count_gate(const TaskContext& ctx) {
+    if (phase() != sailing_phase()) set_phase(sailing_phase(), reason());
+    next_waypoint(ctx, true);
+    return index_ >= route_.count;
+  }
+
+  /// Where the track was this tick, relative to the line it is judged on.
+  void remember(core::NavPoint p, double side) {
+    prev_ = p;
+    prev_side_ = side;
+    prev_by_lidar_ = gate_.seen;
+    have_prev_ = true;
+  }
+
   [[nodiscard]] double gate_side(const GateTrack& g, core::NavPoint p) const {
     const core::NavPoint n = gate_normal(g);
     const core::NavPoint c = g.mid();
@@ -341,7 +367,7 @@ class AvoidanceTask final : public AvoidingTask {
     ++index_;
     gate_ = {};
     have_prev_ = false;
-    confirm_past_m_ = -1.0;
+    confirm_past_m_.reset();
     last_plan_ns_ = core::kNeverNs;
   }
 
@@ -356,23 +382,17 @@ class AvoidanceTask final : public AvoidingTask {
       const double side = gate_side(g, p);
       if (have_prev_ && prev_by_lidar_ != gate_.seen) {  // another line
         have_prev_ = false;
-        confirm_past_m_ = -1.0;
+        confirm_past_m_.reset();
       }
-      if (confirm_past_m_ >= 0.0) {
+      if (confirm_past_m_) {
         // Crossed between the ends: counted once the stern is past the line too, on the
         // estimate confidently so (else a boat stopping at the finish may stop short of it).
-        if (gate_side(g, stern_of(ctx)) >= confirm_past_m_) {
-          confirm_past_m_ = -1.0;
+        if (gate_side(g, stern_of(ctx)) >= *confirm_past_m_) {
           set_reason(confirm_reason_.view());
-          if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
-            set_phase(course1_ ? "to_waypoint" : "navigate", reason());
-          }
-          next_waypoint(ctx, true);
-          return index_ >= route_.count;
+          return count_gate(ctx);
         }
-        if (side < 0.0) confirm_past_m_ = -1.0;  // back before the line: cross it again
-        prev_ = p;
-        prev_side_ = side;
+        if (side < 0.0) confirm_past_m_.reset();  // back before the line: cross it again
+        remember(p, side);
         return false;
       }
       if (have_prev_ && prev_side_ < 0.0 && side >= 0.0) {
@@ -384,35 +404,22 @@ class AvoidanceTask final : public AvoidingTask {
         const double width = std::max(std::hypot(dn, de), 1e-9);
         const double across =
             ((x.north_m - g.left.north_m) * dn + (x.east_m - g.left.east_m) * de) / width;
-        double margin = 0.0;
-        if (!gate_.seen && ctx.position_cov_valid && wp_.arrival_confidence > 0.0) {
-          margin = k_sigma_ * ctx.position_cov.sigma_along_m(core::rad_to_deg(std::atan2(de, dn)));
-        }
+        const double margin = estimate_margin_m(ctx, core::rad_to_deg(std::atan2(de, dn)));
         const char* by = gate_.seen ? "lidar" : "GNSS";
         if (across >= margin && across <= width - margin) {
           set_reason(reason_printf("passed gate %zu between its %s (%s, %.0f%% across)", index_ + 1,
                                    gate_.seen ? "buoys" : "ends", by, 100.0 * across / width));
-          double past_m = 0.0;
-          if (!gate_.seen && ctx.position_cov_valid && wp_.arrival_confidence > 0.0) {
-            const core::NavPoint n = gate_normal(g);
-            past_m = k_sigma_ * ctx.position_cov.sigma_along_m(
-                                    core::rad_to_deg(std::atan2(n.east_m, n.north_m)));
-          }
+          const core::NavPoint n = gate_normal(g);
+          const double past_m =
+              estimate_margin_m(ctx, core::rad_to_deg(std::atan2(n.east_m, n.north_m)));
           if (gate_side(g, stern_of(ctx)) < past_m) {
             confirm_past_m_ = past_m;
             confirm_reason_ =
                 reason_printf("%s, stern %.1f m past it", reason().chars.data(), past_m);
-            prev_ = p;
-            prev_side_ = side;
-            prev_by_lidar_ = gate_.seen;
-            have_prev_ = true;
+            remember(p, side);
             return false;
           }
-          if (phase() != (course1_ ? "to_waypoint" : "navigate")) {
-            set_phase(course1_ ? "to_waypoint" : "navigate", reason());
-          }
-          next_waypoint(ctx, true);
-          return index_ >= route_.count;
+          return count_gate(ctx);
         }
         const bool port = across < 0.5 * width;
         const double out_m = port ? margin - across : across - (width - margin);
@@ -423,13 +430,9 @@ class AvoidanceTask final : public AvoidingTask {
                                 gate_.seen ? "buoy" : "end", by));
         ++ctx.status->waypoints_missed;
       } else if (have_prev_ && prev_side_ >= 0.0 && side < 0.0 && phase() == "turn_back") {
-        set_phase(course1_ ? "to_waypoint" : "navigate",
-                  reason_printf("back before gate %zu", index_ + 1));
+        set_phase(sailing_phase(), reason_printf("back before gate %zu", index_ + 1));
       }
-      prev_ = p;
-      prev_side_ = side;
-      prev_by_lidar_ = gate_.seen;
-      have_prev_ = true;
+      remember(p, side);
       return false;
     }
     // A place (course 1's waypoint, or gates not judged): the position estimate inside the
@@ -472,10 +475,9 @@ class AvoidanceTask final : public AvoidingTask {
     const double ahead =
         gate_.seen ? 1.5 : std::clamp(side + kGateLookaheadM, -gates_.approach_m, 1.5);
     // Confirming a crossing: on through the gate, past where the stern must get.
-    const double k = confirm_past_m_ >= 0.0
-                         ? confirm_past_m_ + avoidance_->params().hull_length_m + 1.5
-                     : side < 0.0 ? ahead
-                                  : -gates_.approach_m;
+    const double k = confirm_past_m_ ? *confirm_past_m_ + avoidance_->params().hull_length_m + 1.5
+                     : side < 0.0    ? ahead
+                                     : -gates_.approach_m;
     return {c.north_m + k * n.north_m, c.east_m + k * n.east_m};
   }
 
@@ -510,7 +512,7 @@ class AvoidanceTask final : public AvoidingTask {
       failures_ = 0;
       if (no_path_) {
         no_path_ = false;
-        set_phase(course1_ ? "to_waypoint" : "navigate", "path found again");
+        set_phase(sailing_phase(), "path found again");
       }
       return;
     }
@@ -541,7 +543,7 @@ class AvoidanceTask final : public AvoidingTask {
       case StuckWatch::Progress::kRecovering:
         return false;
       case StuckWatch::Progress::kRecovered:
-        set_phase(course1_ ? "to_waypoint" : "navigate", "backed off; on toward the goal");
+        set_phase(sailing_phase(), "backed off; on toward the goal");
         return true;
       case StuckWatch::Progress::kBecameStuck:
         break;
@@ -579,8 +581,7 @@ class AvoidanceTask final : public AvoidingTask {
     const auto end = [&](const char* why) {
       manoeuvre_ = Manoeuvre::kNone;
       astern_holdoff_ns_ = ctx.now_ns + core::sec_to_ns(kAsternHoldoffS);
-      set_phase(course1_ ? "to_waypoint" : "navigate",
-                reason_printf("%s after %.1f m astern", why, backed_m));
+      set_phase(sailing_phase(), reason_printf("%s after %.1f m astern", why, backed_m));
     };
     switch (manoeuvre_) {
       case Manoeuvre::kNone:
@@ -765,9 +766,9 @@ class AvoidanceTask final : public AvoidingTask {
   double prev_side_ = 0.0;
   // prev_side_ measured from the lidar's buoys (else from the nominal gate).
   bool prev_by_lidar_ = false;
-  // A crossing between the ends on the estimate waits for the estimate to be this far past the
-  // line (< 0: none waiting); the reason it will be counted with.
-  double confirm_past_m_ = -1.0;
+  // A crossing between the ends waits for the stern to be this far past the line (on the
+  // estimate); the reason it will be counted with.
+  std::optional<double> confirm_past_m_;
   ReasonText confirm_reason_;
   // Planning.
   core::TimeNs last_plan_ns_ = core::kNeverNs;

@@ -75,8 +75,9 @@ class AngleBins {
     double t = 0.0;
     double d_m = 0.0;
   };
-  // That of segment a + t d, t in [0, 1].
+  // That of segment a + t d, t in [0, 1]; the point at a parameter already found.
   [[nodiscard]] static Closest closest_to_origin(double af, double as, double df, double ds);
+  [[nodiscard]] static Closest closest_at(double af, double as, double df, double ds, double t);
   // Calls visit(bin, d_min, f, s, at_closest) for every bin the segment reaches: at_closest when
   // the bin holds the segment's own closest point (`closest`, distance d_min), else (f, s) is
   // the point of the segment nearest the origin that the bin reaches.

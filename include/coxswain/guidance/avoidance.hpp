@@ -241,10 +241,8 @@ class Avoidance {
     std::array<double, kMaxSweepSteps> sin{};
     std::array<double, kMaxSweepSteps> origin_f_m{};
     std::array<double, kMaxSweepSteps> origin_s_m{};
-    std::array<double, kMaxSweepSteps> box_f_m{};  // hull box centre
-    std::array<double, kMaxSweepSteps> box_s_m{};
-    // The box centre as floats for the culling test, four steps at a time; steps past the last
-    // lie far off.
+    // The hull box's centre, as floats for the culling test four steps at a time; steps past
+    // the last lie far off.
     std::array<float, (kMaxSweepSteps + 3) / 4 * 4> lane_box_f_m{};
     std::array<float, (kMaxSweepSteps + 3) / 4 * 4> lane_box_s_m{};
   };
@@ -258,34 +256,25 @@ class Avoidance {
   std::size_t sweep_count_ = 0;
   // Blocks of neighbouring bins for the path ranges' first, coarse test.
   static constexpr std::size_t kBlockBins = 8;
-  struct BinBlock {
-    double origin_f_m = 0.0;  // arc end of the block's first bin
-    double origin_s_m = 0.0;
-    double lo_cos = 1.0;  // direction of its first bin
-    double lo_sin = 0.0;
-    double hi_cos = 1.0;  // direction of its last bin
-    double hi_sin = 0.0;
-    double radius_m = 0.0;  // farthest arc end of the block from origin
-    // How far past its arc end a return can still lower a capped range of the block: the
-    // detection range less the block's shortest arc (at least 0).
-    double ahead_m = 0.0;
-    bool wedge = false;  // the directions turn one way through the block (test usable)
-  };
-  std::array<BinBlock, AngleBins::kMaxBins / kBlockBins + 1> blocks_{};
   std::size_t block_count_ = 0;
   // The culling tests run four blocks, then four bins (or four swept-hull steps), at a time in
   // floats, with margins far above float rounding: so a culled bin is one the exact test would
   // have left as it was. A segment with an end beyond 100 m (or a boat whose turns reach past
   // it) is tested exactly instead.
   static constexpr std::size_t kBlockLanes = (AngleBins::kMaxBins / kBlockBins + 4) / 4 * 4;
+  // A block's bins' corridors all lie in the wedge between its first and last bin's
+  // directions, from its first bin's arc end, widened by its farthest other arc end (while the
+  // directions turn one way through the block; otherwise every bin of it is tested).
   struct BlockLanes {
-    std::array<float, kBlockLanes> origin_f_m{};
+    std::array<float, kBlockLanes> origin_f_m{};  // arc end of the block's first bin
     std::array<float, kBlockLanes> origin_s_m{};
-    std::array<float, kBlockLanes> reach_m{};  // ahead_m + radius_m: the bound less the segment
-    std::array<float, kBlockLanes> radius_m{};
-    std::array<float, kBlockLanes> lo_cos{};
+    // The detection range less the block's shortest arc (at least 0), plus radius_m: the bound
+    // less the segment's own.
+    std::array<float, kBlockLanes> reach_m{};
+    std::array<float, kBlockLanes> radius_m{};  // farthest arc end of the block from its origin
+    std::array<float, kBlockLanes> lo_cos{};    // direction of its first bin
     std::array<float, kBlockLanes> lo_sin{};
-    std::array<float, kBlockLanes> hi_cos{};
+    std::array<float, kBlockLanes> hi_cos{};  // direction of its last bin
     std::array<float, kBlockLanes> hi_sin{};
     std::array<std::int32_t, kBlockLanes> wedge{};  // all ones where the wedge test is usable
     std::array<std::int32_t, kBlockLanes> live{};   // all ones for the blocks that exist

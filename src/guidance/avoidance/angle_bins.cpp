@@ -103,12 +103,22 @@ AngleBins::Runs AngleBins::candidate_bins(double from_deg, double sweep_deg) con
   return r;
 }
 
-AngleBins::Closest AngleBins::closest_to_origin(double af, double as, double df, double ds) {
+namespace {
+
+// The parameter of segment a + t d's closest point to the body origin.
+double closest_t(double af, double as, double df, double ds) {
   const double dd = df * df + ds * ds;
-  Closest c;
-  c.t = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
-  c.d_m = std::hypot(af + c.t * df, as + c.t * ds);
-  return c;
+  return dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
+}
+
+}  // namespace
+
+AngleBins::Closest AngleBins::closest_at(double af, double as, double df, double ds, double t) {
+  return {t, std::hypot(af + t * df, as + t * ds)};
+}
+
+AngleBins::Closest AngleBins::closest_to_origin(double af, double as, double df, double ds) {
+  return closest_at(af, as, df, ds, closest_t(af, as, df, ds));
 }
 
 template <class Visit>
@@ -216,7 +226,7 @@ double AngleBins::nearest_m(const perception::ObstacleList& list, double corrido
   // those visited.
   const std::uint32_t n = std::min<std::uint32_t>(
       list.count, static_cast<std::uint32_t>(perception::ObstacleList::kMaxSegments));
-  std::array<double, perception::ObstacleList::kMaxSegments> closest_t{};
+  std::array<double, perception::ObstacleList::kMaxSegments> closest_ts{};
   std::array<double, perception::ObstacleList::kMaxSegments> closest_sq{};
   std::array<std::uint16_t, perception::ObstacleList::kMaxSegments> order{};
   const double max_sq = max_range_m * max_range_m * (1.0 + 1e-9);
@@ -227,14 +237,12 @@ double AngleBins::nearest_m(const perception::ObstacleList& list, double corrido
     const double as = seg.begin.starboard_m;
     const double df = seg.end.forward_m - af;
     const double ds = seg.end.starboard_m - as;
-    const double dd = df * df + ds * ds;
-    // closest_to_origin()'s parameter, the same arithmetic.
-    const double t = dd < kEps ? 0.0 : std::clamp(-(af * df + as * ds) / dd, 0.0, 1.0);
+    const double t = closest_t(af, as, df, ds);
     const double x = af + t * df;
     const double y = as + t * ds;
     const double sq = x * x + y * y;
     if (!(sq <= max_sq)) continue;
-    closest_t[k] = t;
+    closest_ts[k] = t;
     // Insertion by distance (a list of at most kMaxSegments, mostly a few dozen).
     std::uint32_t at = m++;
     while (at > 0 && closest_sq[at - 1] > sq) {
@@ -252,9 +260,8 @@ double AngleBins::nearest_m(const perception::ObstacleList& list, double corrido
     const auto& seg = list.segments[order[i]];
     const double af = seg.begin.forward_m;
     const double as = seg.begin.starboard_m;
-    const double t = closest_t[order[i]];
-    const Closest closest{
-        t, std::hypot(af + t * (seg.end.forward_m - af), as + t * (seg.end.starboard_m - as))};
+    const Closest closest =
+        closest_at(af, as, seg.end.forward_m - af, seg.end.starboard_m - as, closest_ts[order[i]]);
     if (!(closest.d_m <= max_range_m)) continue;
     visit_bins(seg, closest, corridor_half_width_m,
                [&nearest](std::size_t, double d_min, double pf, double ps, bool at_closest) {

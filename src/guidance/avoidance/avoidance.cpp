@@ -15,20 +15,16 @@ namespace coxswain::guidance {
 namespace {
 
 using core::lanes::abs2;
-using core::lanes::abs4;
 using core::lanes::all2;
-using core::lanes::any2;
 using core::lanes::bits4;
 using core::lanes::load2;
 using core::lanes::load4;
 using core::lanes::load4i;
-using core::lanes::max2;
 using core::lanes::max4;
 using core::lanes::splat2;
 using core::lanes::splat4;
 using core::lanes::store2;
 using core::lanes::V2d;
-using core::lanes::V2i;
 using core::lanes::V4f;
 using core::lanes::V4i;
 
@@ -186,21 +182,11 @@ bool segment_box_closer_than(double af, double as, double bf, double bs, const H
   return least_length(o) < room_m;
 }
 
-// Squared distance from a point to a segment (start a, direction d, inv_dd = 1 / |d|^2 or 0).
-double point_segment_sq(double pf, double ps, double af, double as, double df, double ds,
-                        double inv_dd) {
-  const double wf = pf - af;
-  const double ws = ps - as;
-  const double t = std::clamp((wf * df + ws * ds) * inv_dd, 0.0, 1.0);
-  const double ef = wf - t * df;
-  const double es = ws - t * ds;
-  return ef * ef + es * es;
-}
-
-// point_segment_sq() for two doubles or four floats at once, lane by lane the same arithmetic
-// (std::clamp(v, 0, 1) is v < 0 ? 0 : (1 < v ? 1 : v)).
+// Squared distance from a point to a segment (start a, direction d, inv_dd = 1 / |d|^2 or 0),
+// for one double or four floats at once, lane by lane the same arithmetic (std::clamp(v, 0, 1)
+// is v < 0 ? 0 : (1 < v ? 1 : v)).
 template <class V>
-V point_segment_sq_lanes(V pf, V ps, V af, V as, V df, V ds, V inv_dd) {
+V point_segment_sq(V pf, V ps, V af, V as, V df, V ds, V inv_dd) {
   const V wf = pf - af;
   const V ws = ps - as;
   const V zero{};
@@ -366,30 +352,42 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
   // way through the block; otherwise every bin of it is tested).
   const std::size_t n_bins = bins_.size();
   block_count_ = (n_bins + kBlockBins - 1) / kBlockBins;
+  BlockLanes& bl = block_lanes_;
   for (std::size_t b = 0; b < block_count_; ++b) {
-    BinBlock& blk = blocks_[b];
     const std::size_t j0 = b * kBlockBins;
     const std::size_t j1 = std::min(n_bins, j0 + kBlockBins) - 1;
-    blk.origin_f_m = arc_end_f_m_[j0];
-    blk.origin_s_m = arc_end_s_m_[j0];
-    blk.lo_cos = arc_cos_[j0];
-    blk.lo_sin = arc_sin_[j0];
-    blk.hi_cos = arc_cos_[j1];
-    blk.hi_sin = arc_sin_[j1];
-    blk.radius_m = 0.0;
-    blk.wedge = blk.lo_cos * blk.hi_cos + blk.lo_sin * blk.hi_sin > 0.0;
+    const double origin_f = arc_end_f_m_[j0];  // arc end of the block's first bin
+    const double origin_s = arc_end_s_m_[j0];
+    const double lo_cos = arc_cos_[j0];  // direction of its first bin
+    const double lo_sin = arc_sin_[j0];
+    const double hi_cos = arc_cos_[j1];  // direction of its last bin
+    const double hi_sin = arc_sin_[j1];
+    double radius_m = 0.0;  // farthest arc end of the block from origin
+    bool wedge = lo_cos * hi_cos + lo_sin * hi_sin > 0.0;
     double shortest_arc_m = arc_len_m_[j0];
     for (std::size_t j = j0; j <= j1; ++j) {
       shortest_arc_m = std::min(shortest_arc_m, arc_len_m_[j]);
-      blk.radius_m = std::max(blk.radius_m, std::hypot(arc_end_f_m_[j] - blk.origin_f_m,
-                                                       arc_end_s_m_[j] - blk.origin_s_m));
-      const double from_lo = blk.lo_cos * arc_sin_[j] - blk.lo_sin * arc_cos_[j];
-      const double to_hi = arc_cos_[j] * blk.hi_sin - arc_sin_[j] * blk.hi_cos;
-      if (from_lo < -1e-12 || to_hi < -1e-12) blk.wedge = false;
+      radius_m =
+          std::max(radius_m, std::hypot(arc_end_f_m_[j] - origin_f, arc_end_s_m_[j] - origin_s));
+      const double from_lo = lo_cos * arc_sin_[j] - lo_sin * arc_cos_[j];
+      const double to_hi = arc_cos_[j] * hi_sin - arc_sin_[j] * hi_cos;
+      if (from_lo < -1e-12 || to_hi < -1e-12) wedge = false;
     }
-    blk.ahead_m = std::max(0.0, params.detection_range_m - shortest_arc_m);
+    // How far past its arc end a return can still lower a capped range of the block: the
+    // detection range less the block's shortest arc (at least 0).
+    const double ahead_m = std::max(0.0, params.detection_range_m - shortest_arc_m);
+    bl.origin_f_m[b] = static_cast<float>(origin_f);
+    bl.origin_s_m[b] = static_cast<float>(origin_s);
+    bl.reach_m[b] = static_cast<float>(ahead_m + radius_m);
+    bl.radius_m[b] = static_cast<float>(radius_m);
+    bl.lo_cos[b] = static_cast<float>(lo_cos);
+    bl.lo_sin[b] = static_cast<float>(lo_sin);
+    bl.hi_cos[b] = static_cast<float>(hi_cos);
+    bl.hi_sin[b] = static_cast<float>(hi_sin);
+    bl.wedge[b] = wedge ? -1 : 0;
+    bl.live[b] = -1;
   }
-  // The same, as floats for the culling tests.
+  // The bins, as floats for the culling tests.
   lanes_usable_ = params.detection_range_m <= kLaneLimitM;
   for (std::size_t j = 0; j < bin_lanes_.arc_len_m.size(); ++j) {
     const bool bin = j < n_bins;
@@ -403,19 +401,6 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
                 std::abs(arc_end_s_m_[j]) > kLaneLimitM || arc_len_m_[j] > kLaneLimitM)) {
       lanes_usable_ = false;
     }
-  }
-  for (std::size_t b = 0; b < block_count_; ++b) {
-    const BinBlock& blk = blocks_[b];
-    block_lanes_.origin_f_m[b] = static_cast<float>(blk.origin_f_m);
-    block_lanes_.origin_s_m[b] = static_cast<float>(blk.origin_s_m);
-    block_lanes_.reach_m[b] = static_cast<float>(blk.ahead_m + blk.radius_m);
-    block_lanes_.radius_m[b] = static_cast<float>(blk.radius_m);
-    block_lanes_.lo_cos[b] = static_cast<float>(blk.lo_cos);
-    block_lanes_.lo_sin[b] = static_cast<float>(blk.lo_sin);
-    block_lanes_.hi_cos[b] = static_cast<float>(blk.hi_cos);
-    block_lanes_.hi_sin[b] = static_cast<float>(blk.hi_sin);
-    block_lanes_.wedge[b] = blk.wedge ? -1 : 0;
-    block_lanes_.live[b] = -1;
   }
   // The swept hull's poses, step by step, with the same arithmetic the check used to do per
   // call (so the same turns come out).
@@ -457,15 +442,15 @@ Avoidance::Avoidance(const AvoidanceParams& params) : params_(params) {
       w.sin[k] = sn;
       w.origin_f_m[k] = of;
       w.origin_s_m[k] = os;
-      w.box_f_m[k] = of + box_mid_m * c;
-      w.box_s_m[k] = os + box_mid_m * sn;
-      if (std::abs(w.box_f_m[k]) > kLaneLimitM || std::abs(w.box_s_m[k]) > kLaneLimitM) {
-        lanes_usable_ = false;
-      }
+      const double box_f = of + box_mid_m * c;
+      const double box_s = os + box_mid_m * sn;
+      if (std::abs(box_f) > kLaneLimitM || std::abs(box_s) > kLaneLimitM) lanes_usable_ = false;
+      w.lane_box_f_m[k] = static_cast<float>(box_f);
+      w.lane_box_s_m[k] = static_cast<float>(box_s);
     }
-    for (std::size_t k = 0; k < w.lane_box_f_m.size(); ++k) {
-      w.lane_box_f_m[k] = k < w.all_steps ? static_cast<float>(w.box_f_m[k]) : kFarOffM;
-      w.lane_box_s_m[k] = k < w.all_steps ? static_cast<float>(w.box_s_m[k]) : kFarOffM;
+    for (std::size_t k = w.all_steps; k < w.lane_box_f_m.size(); ++k) {
+      w.lane_box_f_m[k] = kFarOffM;
+      w.lane_box_s_m[k] = kFarOffM;
     }
   }
 }
@@ -735,7 +720,6 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
     const double dd = df * df + ds * ds;
     const double inv_dd = dd > 0.0 ? 1.0 / dd : 0.0;
     const double reach = box_radius_m_ + sweep_room_m_[i] + kCullEps;
-    const double reach_sq = reach * reach;
     const auto touches = [&](std::size_t k) {
       const double c = w.cos[k];
       const double sn = w.sin[k];
@@ -764,8 +748,8 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
       const auto lane_reach = static_cast<float>(reach + kLaneEpsM);
       const V4f v_reach_sq = splat4(lane_reach * lane_reach);
       for (std::size_t k = 0; k < first_hit; k += 4) {
-        const V4f near = point_segment_sq_lanes(
-            load4(&w.lane_box_f_m[k]), load4(&w.lane_box_s_m[k]), v_af, v_as, v_df, v_ds, v_inv);
+        const V4f near = point_segment_sq(load4(&w.lane_box_f_m[k]), load4(&w.lane_box_s_m[k]),
+                                          v_af, v_as, v_df, v_ds, v_inv);
         const unsigned in = bits4(near <= v_reach_sq);
         if (in == 0) continue;
         std::size_t hit = first_hit;
@@ -782,31 +766,11 @@ std::size_t Avoidance::first_sweep_hit(const perception::ObstacleList& obstacles
       }
       continue;
     }
-    const V2d v_af = splat2(af);
-    const V2d v_as = splat2(as);
-    const V2d v_df = splat2(df);
-    const V2d v_ds = splat2(ds);
-    const V2d v_inv = splat2(inv_dd);
-    const V2d v_reach_sq = splat2(reach_sq);
-    std::size_t k = 0;
-    for (; k + 1 < first_hit; k += 2) {
-      const V2d near = point_segment_sq_lanes(load2(&w.box_f_m[k]), load2(&w.box_s_m[k]), v_af,
-                                              v_as, v_df, v_ds, v_inv);
-      const V2i in = near <= v_reach_sq;
-      if (!any2(in)) continue;
-      if (in[0] != 0 && touches(k)) {
+    for (std::size_t k = 0; k < first_hit; ++k) {  // far off: every step, exactly
+      if (touches(k)) {
         first_hit = k;
         break;
       }
-      if (in[1] != 0 && touches(k + 1)) {
-        first_hit = k + 1;
-        break;
-      }
-    }
-    if (k + 1 == first_hit &&
-        !(point_segment_sq(w.box_f_m[k], w.box_s_m[k], af, as, df, ds, inv_dd) > reach_sq) &&
-        touches(k)) {
-      first_hit = k;
     }
   }
   return first_hit;
@@ -850,11 +814,11 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
 
 void Avoidance::cull_path_ranges(double af, double as, double bf, double bs, double w,
                                  bool capped) {
-  // The segment's bounding circle first decides which bins it can reach at all: whole blocks
-  // of bins by their wedge, then each bin by its corridor (within the half-width of its centre
-  // line, not wholly behind the turn's end, near enough to lower its range). Every bound is
-  // widened by kLaneEpsM, so float rounding (under 1e-4 m within kLaneLimitM) never culls a bin
-  // the exact test would lower.
+  // The segment's bounding circle first decides which blocks of bins it can reach at all (by
+  // their wedge), then its two ends decide each bin of a block that passes (not both beyond one
+  // side of the corridor, not both behind the turn's end, the nearer near enough to lower the
+  // range). Every bound is widened by kLaneEpsM, so float rounding (under 1e-4 m within
+  // kLaneLimitM) never culls a bin the exact test would lower.
   const double half_len = 0.5 * std::sqrt((bf - af) * (bf - af) + (bs - as) * (bs - as));
   const auto mid_f = static_cast<float>(0.5 * (af + bf));
   const auto mid_s = static_cast<float>(0.5 * (as + bs));
