@@ -820,6 +820,12 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::sight_min_speed_factor>(
         "planner.sight_min_speed_factor", "", 0.01, 1.0, kFixed,
         "speed factor with the unseen right ahead (it rises in proportion to the seen run)"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::turn_slow_deg>(
+        "planner.turn_slow_deg", "deg", 0.0, 89.0, kFixed,
+        "the path's sub-goal more than this off the bow: slower for the turn (0: off)"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::turn_min_speed_factor>(
+        "planner.turn_min_speed_factor", "", 0.01, 1.0, kFixed,
+        "speed factor with the sub-goal 90 deg or more off the bow"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::lookahead_m>(
         "planner.lookahead_m", "m", 0.1, 50.0, kFixed, "the sub-goal's distance along the path"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::line_of_sight_min_m>(
@@ -884,6 +890,10 @@ constexpr std::array kPlanning{
     real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::approach_m>(
         "gates.approach_m", "m", 0.1, 50.0, kFixed,
         "after a miss, go back to this far before the gate"),
+    real_param<PlanningConfig, &PlanningConfig::gates, &GateParams::wall_m>(
+        "gates.wall_m", "m", 0.0, 100.0, kFixed,
+        "while a gate is the goal, its line this far beyond each end is a wall to the planner "
+        "(0: off)"),
     bool_param<PlanningConfig, &PlanningConfig::turn_side, &TurnSideParams::enabled>(
         "turn_side.enabled", kFixed,
         "waypoint-only tasks (hopping): a large turn goes the long way round when the lidar sees "

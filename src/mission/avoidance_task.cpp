@@ -131,6 +131,7 @@ class AvoidanceTask final : public AvoidingTask {
       }
     }
     if (planned_aim) {
+      out.speed_factor *= turn_factor(ctx, aim);
       astern(ctx, aim, out);
     } else if (manoeuvre_ != Manoeuvre::kNone) {
       manoeuvre_ = Manoeuvre::kNone;  // no path to back along
@@ -498,6 +499,18 @@ class AvoidanceTask final : public AvoidingTask {
     r.owner = this;
     r.start = ctx.antenna;
     r.goal = goal;
+    r.wall_count = 0;
+    if (judging_a_gate() && gates_.wall_m > 0.0) {
+      // The gate's line beyond its ends is a wall for the path: it crosses between them.
+      const GateTrack g = judged_gate();
+      const double dn = g.right.north_m - g.left.north_m;
+      const double de = g.right.east_m - g.left.east_m;
+      const double width = std::max(std::hypot(dn, de), 1e-9);
+      const double f = gates_.wall_m / width;
+      r.walls[0] = {g.left, {g.left.north_m - f * dn, g.left.east_m - f * de}};
+      r.walls[1] = {g.right, {g.right.north_m + f * dn, g.right.east_m + f * de}};
+      r.wall_count = 2;
+    }
   }
 
   void take_plan(const TaskContext& ctx) {
@@ -532,6 +545,17 @@ class AvoidanceTask final : public AvoidingTask {
     if (!(plan_.sight_full_speed_m > 0.0)) return 1.0;
     const double seen = ctx.planner->seen_ahead_m(*ctx.map, ctx.antenna, plan_.sight_full_speed_m);
     return std::max(plan_.sight_min_speed_factor, seen / plan_.sight_full_speed_m);
+  }
+
+  /// Slow for a turn (planner.turn_slow_deg): 1 with the aim within turn_slow_deg of the bow,
+  /// down to turn_min_speed_factor at 90 deg off it or more.
+  [[nodiscard]] double turn_factor(const TaskContext& ctx, core::NavPoint aim) const {
+    if (!(plan_.turn_slow_deg > 0.0)) return 1.0;
+    const double off_deg =
+        std::abs(core::angle_diff_deg(core::bearing_deg(ctx.antenna, aim), ctx.pose.heading_deg));
+    const double f =
+        std::clamp((off_deg - plan_.turn_slow_deg) / (90.0 - plan_.turn_slow_deg), 0.0, 1.0);
+    return 1.0 - f * (1.0 - plan_.turn_min_speed_factor);
   }
 
   /// Follows the boat's progress; false while it is stuck (moved less than stuck_distance_m in

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -535,7 +536,9 @@ struct MissionCore::Impl {
     }
     if (plan_request.pending) {
       plan_request.pending = false;
-      plan_request.status = planner->plan(*map, plan_request.start, plan_request.goal);
+      plan_request.status =
+          planner->plan(*map, plan_request.start, plan_request.goal,
+                        std::span(plan_request.walls).first(plan_request.wall_count));
       plan_request.made_for = plan_request.owner;
       ++plan_request.made;
     }

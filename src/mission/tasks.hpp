@@ -37,6 +37,9 @@ struct PlanRequest {
   const void* owner = nullptr;  // the task that asked
   core::NavPoint start;
   core::NavPoint goal;
+  /// Lines the path may not cross (a gate's line beyond its ends), the first wall_count.
+  std::array<guidance::PlanWall, 2> walls{};
+  std::size_t wall_count = 0;
   /// Plans made so far, the task the last one was made for, and its outcome.
   std::uint64_t made = 0;
   const void* made_for = nullptr;

@@ -71,6 +71,12 @@ struct MapPlannerParams {
   // the walls by the current; docs/results.md).
   double sight_full_speed_m = 0.0;
   double sight_min_speed_factor = 0.4;
+  // Slow for a turn: with the path's sub-goal more than turn_slow_deg off the bow, the speed
+  // falls in proportion to the turn still to make, down to turn_min_speed_factor at 90 deg or
+  // more, so a boat meeting a corner of its path (a gap opening beside it) turns in the room it
+  // has rather than coasting on into what lies ahead. 0 deg: off.
+  double turn_slow_deg = 0.0;
+  double turn_min_speed_factor = 0.4;
   double lookahead_m = 3.0;  // the sub-goal's distance along the path
   // The sub-goal comes nearer, down to this along the path, until the boat can steer straight
   // at it (never round a corner); at lookahead_m or more (the default): always lookahead_m along
@@ -117,6 +123,9 @@ struct GateParams {
   double max_buoy_length_m = 0.8;  // longer obstacle segments are not buoys
   double track_gate_m = 1.0;       // a new sighting this near the tracked gate updates it
   double approach_m = 2.5;         // after a miss: back to this far before the gate
+  // While a gate is the goal the planner takes its line beyond each end, this far, for a wall,
+  // so a path crosses the line between the ends and nowhere else (0: off).
+  double wall_m = 8.0;
   [[nodiscard]] std::optional<std::string> validate() const;
 };
 
@@ -218,6 +227,12 @@ class NavMap {
   std::size_t occupied_count_ = 0;
 };
 
+/// A line one plan may not cross (a gate's line beyond its ends), inflated as a wall is.
+struct PlanWall {
+  core::NavPoint from;
+  core::NavPoint to;
+};
+
 /// A* on the inflated map, the path's look-ahead sub-goal. Not thread-safe; allocates only in
 /// the constructor.
 class MapPlanner {
@@ -229,8 +244,10 @@ class MapPlanner {
   /// line to it leaves the map; a blocked one moves to the nearest free cell within
   /// goal_search_m). A start on an obstacle cell (a hull on a wall, its position a little
   /// inside it) plans from the last start that was not, when that is near: the boat leaves a
-  /// wall on the side it came from, never through it.
-  PlanStatus plan(const NavMap& map, core::NavPoint start, core::NavPoint goal);
+  /// wall on the side it came from, never through it. `walls` stand for this plan only, as
+  /// obstacles (a boat on one leaves it the way it came, as from any wall).
+  PlanStatus plan(const NavMap& map, core::NavPoint start, core::NavPoint goal,
+                  std::span<const PlanWall> walls = {});
   [[nodiscard]] PlanStatus status() const { return status_; }
   /// The last successful plan's path (empty after a failure).
   [[nodiscard]] const std::vector<core::NavPoint>& path() const { return path_; }
@@ -259,7 +276,10 @@ class MapPlanner {
     int dr;
     int dc;
   };
-  void inflate(const NavMap& map);
+  void inflate(const NavMap& map, std::span<const PlanWall> walls);
+  /// Makes the cells of `w` on the map obstacles, queued for the spread after the first
+  /// `queued`; returns the new count.
+  std::size_t queue_wall(const PlanWall& w, std::size_t queued);
   /// Scales the costs down toward the goal (goal_fade_m).
   void fade_near(core::NavPoint goal);
   /// Spreads each cell's nearest obstacle (site) to its neighbours from the `queued` cells at

@@ -51,6 +51,12 @@ std::optional<std::string> MapPlannerParams::validate() const {
   if (!finite_nonneg(sight_full_speed_m) || sight_full_speed_m > 100.0) {
     return "planner: sight_full_speed_m in [0, 100]";
   }
+  if (!std::isfinite(turn_slow_deg) || turn_slow_deg < 0.0 || turn_slow_deg >= 90.0) {
+    return "planner: turn_slow_deg in [0, 90)";
+  }
+  if (!(turn_min_speed_factor > 0.0 && turn_min_speed_factor <= 1.0)) {
+    return "planner: turn_min_speed_factor in (0, 1]";
+  }
   if (!(sight_min_speed_factor > 0.0 && sight_min_speed_factor <= 1.0)) {
     return "planner: sight_min_speed_factor in (0, 1]";
   }
@@ -99,6 +105,7 @@ std::optional<std::string> GateParams::validate() const {
   if (!finite_pos(max_buoy_length_m)) return "gates: max_buoy_length_m > 0";
   if (!finite_pos(track_gate_m)) return "gates: track_gate_m > 0";
   if (!finite_pos(approach_m)) return "gates: approach_m > 0";
+  if (!finite_nonneg(wall_m)) return "gates: wall_m >= 0";
   return {};
 }
 
@@ -596,7 +603,29 @@ void MapPlanner::note_changed(std::uint32_t k) {
   changed_.push_back(k);  // at most one entry per cell: within the capacity reserved
 }
 
-void MapPlanner::inflate(const NavMap& map) {
+std::size_t MapPlanner::queue_wall(const PlanWall& w, std::size_t queued) {
+  const GridView v = view();
+  const double len = core::distance_m(w.from, w.to);
+  if (!std::isfinite(len)) return queued;
+  // Steps of half a cell: consecutive cells touch at least at a corner, and the inflation round
+  // each closes the diagonal gaps.
+  const auto steps = static_cast<std::size_t>(std::ceil(len / (0.5 * resolution_m_)));
+  for (std::size_t i = 0; i <= steps; ++i) {
+    const double f = steps == 0 ? 0.0 : static_cast<double>(i) / static_cast<double>(steps);
+    const auto c = v.cell_of({w.from.north_m + f * (w.to.north_m - w.from.north_m),
+                              w.from.east_m + f * (w.to.east_m - w.from.east_m)});
+    if (!c) continue;
+    const auto k = static_cast<std::uint32_t>(v.index(*c));
+    if (dist2_[k] == 0) continue;
+    dist2_[k] = 0;
+    site_[k] = k;
+    if (queued < queue_.size()) queue_[queued++] = k;
+    note_changed(k);
+  }
+  return queued;
+}
+
+void MapPlanner::inflate(const NavMap& map, std::span<const PlanWall> walls) {
   // Only the cells the lidar's obstacles reached (this plan's and the last's) and the last
   // goal's faded costs differ from the known layer's values, so those alone are put back and
   // worked out again: the same arrays as a copy of the whole known layer would give, without a
@@ -626,6 +655,7 @@ void MapPlanner::inflate(const NavMap& map) {
     queue_[queued++] = k;
     note_changed(k);
   }
+  for (const PlanWall& w : walls) queued = queue_wall(w, queued);
   spread(dist2_, site_, queued, true);
   if (whole) {
     for (std::size_t k = 0; k < dist2_.size(); ++k) derive(map, k);
@@ -636,8 +666,9 @@ void MapPlanner::inflate(const NavMap& map) {
   inflated_once_ = true;
 }
 
-PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPoint goal) {
-  inflate(map);
+PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPoint goal,
+                            std::span<const PlanWall> walls) {
+  inflate(map, walls);
   const GridView v = view();
   // On an obstacle cell every way out is as shallow as the next, so A* would leave through
   // the far side of a thin wall as readily as the near one. Farther than this from the last
@@ -680,6 +711,7 @@ PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPo
     }
     if (!moved) {
       status_ = PlanStatus::kGoalBlocked;
+      path_.clear();
       return status_;
     }
   }

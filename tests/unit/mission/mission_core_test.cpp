@@ -798,6 +798,31 @@ TEST(MissionObstacleCourse, InAPocketNarrowerThanItsTurnTheBoatBacksOutAlongTheP
   }
 }
 
+// In open water, the path north and the bow held east (the boat not moving): with the turn
+// slow-down the thrust falls to turn_min_speed_factor of what it is without; with the bow on
+// the path it is the same.
+TEST(MissionObstacleCourse, WithItsSubGoalFarOffTheBowTheBoatSlowsForTheTurn) {
+  const auto thrust_after = [](double turn_slow_deg, double heading_deg) {
+    config::Configuration c = obstacle_config(25.0);
+    c.mission.planning.planner.turn_slow_deg = turn_slow_deg;
+    c.mission.planning.planner.turn_min_speed_factor = 0.4;
+    c.mission.planning.planner.stuck_s = 0.0;  // held still on purpose
+    auto rig = std::make_unique<Rig>(c);
+    rig->heading_deg = heading_deg;
+    rig->move = false;
+    rig->run_for(8.0);
+    EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+    return rig->out.viz.thrust_command;
+  };
+  const double east_plain = thrust_after(0.0, 90.0);
+  const double east_slowed = thrust_after(30.0, 90.0);
+  ASSERT_GT(east_plain, 0.3);
+  EXPECT_NEAR(east_slowed, 0.4 * east_plain, 0.02);
+  EXPECT_NEAR(thrust_after(30.0, 0.0), thrust_after(0.0, 0.0), 1e-9);
+  // 60 deg off: halfway from 30 to 90, so 0.7 of the thrust.
+  EXPECT_NEAR(thrust_after(30.0, 60.0), 0.7 * thrust_after(0.0, 60.0), 0.02);
+}
+
 // The dead end above, with the map update and each replan done after the step (the daemon's
 // way) or as the next step begins (lockstep and replay): every command, state and drawn path
 // is the same, bit for bit, tick by tick, through a course that needs many replans.

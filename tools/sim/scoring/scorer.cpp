@@ -310,7 +310,22 @@ void Scorer::update(const dynamics::TruthState& truth, msg::LedColour led) {
       o.anchor_s = t;
       // Hitting the dock is not penalised (2022 docking rule, kept for 2026 course 3).
       const bool penalised = o.kind != ObstacleKind::kDock;
-      result_.contacts.push_back({t, cg, o.name, o.kind, course_, penalised});
+      NavPoint nearest = o.center;
+      if (o.kind != ObstacleKind::kBuoy) {
+        double best = 1e300;
+        for (const auto& sgm : o.segments) {
+          const NavPoint q = world::nearest_on_segment(cg, sgm.first, sgm.second);
+          const double dq = core::distance_m(cg, q);
+          if (dq < best) {
+            best = dq;
+            nearest = q;
+          }
+        }
+      }
+      const double bearing_body_deg =
+          core::angle_diff_deg(core::bearing_deg(cg, nearest), truth.pose.heading_deg);
+      result_.contacts.push_back({t, cg, o.name, o.kind, course_, penalised, truth.pose.heading_deg,
+                                  truth.u_mps, bearing_body_deg});
       if (penalised) {
         const double p = collision_penalty_s(result_.rules);
         ++result_.collisions;
@@ -509,7 +524,10 @@ nlohmann::json to_json(const ScoreResult& r) {
                              {"obstacle", c.obstacle},
                              {"kind", kind_name(c.kind)},
                              {"course", c.course},
-                             {"penalised", c.penalised}});
+                             {"penalised", c.penalised},
+                             {"heading_deg", c.heading_deg},
+                             {"surge_mps", c.surge_mps},
+                             {"bearing_body_deg", c.bearing_body_deg}});
   }
   auto passages = [](const std::vector<Passage>& v) {
     json a = json::array();

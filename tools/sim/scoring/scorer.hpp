@@ -49,6 +49,11 @@ struct Contact {
   ObstacleKind kind = ObstacleKind::kWall;
   std::size_t course = 0;  // index of the course region the boat was in
   bool penalised = true;
+  // How it was touched: the heading, the speed along it (negative astern) and the bearing off
+  // the bow of the obstacle's point nearest the centre of gravity (0 ahead, +-180 astern).
+  double heading_deg = 0.0;
+  double surge_mps = 0.0;
+  double bearing_body_deg = 0.0;
 };
 
 struct Passage {

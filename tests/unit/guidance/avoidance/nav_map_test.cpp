@@ -472,6 +472,45 @@ namespace {
 // last's) and the last goal's faded costs; the inflated grid must be what a planner building it
 // from nothing gives, after obstacles appear, move away and vanish, with and without the soft
 // clearance cost and the goal's fade.
+// Where a path crosses the line north = `line_north_m`, east of the crossing (none: NaN).
+double crossing_east_m(const std::vector<NavPoint>& path, double line_north_m) {
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    const NavPoint a = path[i - 1];
+    const NavPoint b = path[i];
+    if ((a.north_m - line_north_m) * (b.north_m - line_north_m) > 0.0 || a.north_m == b.north_m) {
+      continue;
+    }
+    const double t = (line_north_m - a.north_m) / (b.north_m - a.north_m);
+    return a.east_m + t * (b.east_m - a.east_m);
+  }
+  return std::nan("");
+}
+
+// A gate at north 10 m between east -1.5 and 1.5 m, its goal just beyond it, the boat off to
+// the east: the straight way crosses the line well outside the gate. With the gate's line
+// beyond its ends as walls the path crosses between them; the walls stand for that plan only.
+TEST(MapPlanner, WallsOnAGatesLineMakeThePathCrossBetweenItsEnds) {
+  NavMap m(small_map(), {}, {});
+  MapPlanner planner(m, MapPlannerParams{}, 0.45);
+  const NavPoint start{6.0, 10.0};
+  const NavPoint goal{11.5, 0.0};
+  const std::vector<PlanWall> walls{{{10.0, -1.5}, {10.0, -9.5}}, {{10.0, 1.5}, {10.0, 9.5}}};
+  ASSERT_EQ(planner.plan(m, start, goal), PlanStatus::kOk);
+  EXPECT_GT(crossing_east_m(planner.path(), 10.0), 1.5);
+  ASSERT_EQ(planner.plan(m, start, goal, walls), PlanStatus::kOk);
+  const double across = crossing_east_m(planner.path(), 10.0);
+  EXPECT_GT(across, -1.5);
+  EXPECT_LT(across, 1.5);
+  ASSERT_EQ(planner.plan(m, start, goal), PlanStatus::kOk);
+  EXPECT_GT(crossing_east_m(planner.path(), 10.0), 1.5);
+  // A boat on a wall (its position in it) leaves on the side it came from.
+  ASSERT_EQ(planner.plan(m, {9.0, 4.0}, goal, walls), PlanStatus::kOk);
+  ASSERT_EQ(planner.plan(m, {10.0, 4.0}, goal, walls), PlanStatus::kOk);
+  const double back = crossing_east_m(planner.path(), 10.0);
+  EXPECT_GT(back, -1.5);
+  EXPECT_LT(back, 1.5);
+}
+
 TEST(MapPlanner, ReplanningGivesTheGridAFreshPlannerBuildsAsObstaclesComeAndGo) {
   for (const double clearance_cost : {0.0, 4.0}) {
     NavMapParams mp = small_map();
@@ -497,9 +536,15 @@ TEST(MapPlanner, ReplanningGivesTheGridAFreshPlannerBuildsAsObstaclesComeAndGo) 
       const core::NavPose pose{{next(-2.0, 1.0), next(-2.0, 2.0)}, next(-30.0, 30.0)};
       for (int k = 0; k < 3; ++k) m.add_scan(scan_of(pose, walls), pose, kHull);
       const NavPoint goal{next(6.0, 20.0), next(-6.0, 6.0)};
-      (void)replanning.plan(m, pose.position, goal);
+      // A gate's walls on some plans, not on others.
+      std::vector<PlanWall> gate_walls;
+      if (next(0.0, 1.0) < 0.5) {
+        const NavPoint end{next(4.0, 16.0), next(-4.0, 4.0)};
+        gate_walls.push_back({end, {end.north_m + next(-1.0, 1.0), end.east_m + next(-9.0, 9.0)}});
+      }
+      (void)replanning.plan(m, pose.position, goal, gate_walls);
       MapPlanner fresh(m, pp, 0.45);
-      (void)fresh.plan(m, pose.position, goal);
+      (void)fresh.plan(m, pose.position, goal, gate_walls);
       const GridView a = replanning.view();
       const GridView b = fresh.view();
       const std::size_t n = static_cast<std::size_t>(a.rows) * a.cols;
