@@ -682,8 +682,14 @@ class AvoidanceTask final : public AvoidingTask {
   }
 
   /// `t` seconds into a recovery (stuck or no path): back_off_then_look, drawn.
+  /// With something within astern_look_m of the stern (a boat pinned stern first on a wall)
+  /// backing off would only press it on: it turns to look at once.
   TaskResult back_off_then_look(const TaskContext& ctx, double t, double look_deg,
                                 GuidanceRequest& out) const {
+    if (t >= plan_.stop_s && t < plan_.stop_s + plan_.back_off_s && ctx.obstacles != nullptr &&
+        !(avoidance_->astern_room_m(*ctx.obstacles, plan_.astern_look_m) > 0.0)) {
+      t = plan_.stop_s + plan_.back_off_s;
+    }
     detail::back_off_then_look(plan_, ctx.pose.heading_deg, t, look_deg, out);
     fill_viz(ctx, steering_goal(ctx));
     return TaskResult::kRunning;

@@ -722,6 +722,22 @@ TEST(MissionObstacleCourse, ABoatThatMakesNoProgressBacksOffAndThenSailsOn) {
     EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
     EXPECT_TRUE(rig->logged("backed off; on toward the goal")) << rig->log_text();
   }
+  // Held fast with a wall 0.3 m behind the stern (the own-hull box no longer than the hull, so
+  // the lidar sees it): backing off would press the stern on it, so the boat turns to look at
+  // once and never goes astern.
+  {
+    config::Configuration c = gate_config();
+    c.mission.clustering.hull = {-1.3, 0.1, -0.5, 0.5};
+    const guidance::MapPlannerParams& p = c.mission.planning.planner;
+    auto rig = std::make_unique<Rig>(c);
+    rig->world_walls.push_back({{-1.4, -4.0}, {-1.4, 4.0}});
+    rig->move = false;
+    rig->run_for(p.stuck_s + 0.5);
+    ASSERT_EQ(rig->path(), "obstacle_course/stuck") << rig->log_text();
+    const RecoverySeen seen = sail_through_a_recovery(*rig, p);
+    EXPECT_FALSE(seen.astern);
+    EXPECT_EQ(rig->path(), "obstacle_course/navigate") << rig->log_text();
+  }
   // Sailing freely toward the gate: never stuck.
   auto rig = std::make_unique<Rig>(gate_config());
   rig->move = true;
