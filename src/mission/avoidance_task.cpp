@@ -86,6 +86,7 @@ class AvoidanceTask final : public AvoidingTask {
   }
 
   TaskResult step(const TaskContext& ctx, GuidanceRequest& out) override {
+    if (ctx.lidar_new) ++scans_seen_;
     if (search_) return search(ctx, out);
     if (legacy_) return legacy_step(ctx, out);
     if (judge_gates_ && ctx.lidar_new && ctx.obstacles != nullptr) track_gate(ctx);
@@ -685,9 +686,8 @@ class AvoidanceTask final : public AvoidingTask {
   /// With something within astern_look_m of the stern (a boat pinned stern first on a wall)
   /// backing off would only press it on: it turns to look at once.
   TaskResult back_off_then_look(const TaskContext& ctx, double t, double look_deg,
-                                GuidanceRequest& out) const {
-    if (t >= plan_.stop_s && t < plan_.stop_s + plan_.back_off_s && ctx.obstacles != nullptr &&
-        !(avoidance_->astern_room_m(*ctx.obstacles, plan_.astern_look_m) > 0.0)) {
+                                GuidanceRequest& out) {
+    if (t >= plan_.stop_s && t < plan_.stop_s + plan_.back_off_s && stern_blocked(ctx)) {
       t = plan_.stop_s + plan_.back_off_s;
     }
     detail::back_off_then_look(plan_, ctx.pose.heading_deg, t, look_deg, out);
@@ -713,6 +713,17 @@ class AvoidanceTask final : public AvoidingTask {
       t = 0.0;
     }
     return back_off_then_look(ctx, t, look_heading_deg_, out);
+  }
+
+  /// Something within astern_look_m of the stern, in this scan: worked out once per scan (the
+  /// obstacles are in the body frame and change only with a new scan).
+  bool stern_blocked(const TaskContext& ctx) {
+    if (ctx.obstacles == nullptr) return false;
+    if (stern_checked_scan_ != scans_seen_) {
+      stern_checked_scan_ = scans_seen_;
+      stern_blocked_ = !(avoidance_->astern_room_m(*ctx.obstacles, plan_.astern_look_m) > 0.0);
+    }
+    return stern_blocked_;
   }
 
   void fill_viz(const TaskContext& ctx, core::NavPoint goal) const {
@@ -810,6 +821,9 @@ class AvoidanceTask final : public AvoidingTask {
   core::TimeNs no_path_since_ns_ = 0;
   double look_heading_deg_ = 0.0;
   double look_sign_ = 1.0;
+  std::uint64_t scans_seen_ = 0;                   // new scans this task has stepped through
+  std::uint64_t stern_checked_scan_ = UINT64_MAX;  // the scan stern_blocked_ was worked out for
+  bool stern_blocked_ = false;
   StuckWatch progress_;
   // Astern along the path.
   enum class Manoeuvre : std::uint8_t { kNone, kAstern, kTurn };
