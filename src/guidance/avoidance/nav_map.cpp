@@ -605,15 +605,42 @@ void MapPlanner::note_changed(std::uint32_t k) {
 
 std::size_t MapPlanner::queue_wall(const PlanWall& w, std::size_t queued) {
   const GridView v = view();
-  const double len = core::distance_m(w.from, w.to);
-  if (!std::isfinite(len)) return queued;
+  const double dn = w.to.north_m - w.from.north_m;
+  const double de = w.to.east_m - w.from.east_m;
+  if (!std::isfinite(dn) || !std::isfinite(de) || !std::isfinite(w.from.north_m) ||
+      !std::isfinite(w.from.east_m)) {
+    return queued;
+  }
+  // Only the part on the map (Liang-Barsky), so the steps are bounded by the map's size however
+  // long the wall.
+  double t0 = 0.0;
+  double t1 = 1.0;
+  const auto clip = [&](double p, double q) {  // keep where p t <= q
+    if (p == 0.0) return q >= 0.0;
+    const double r = q / p;
+    if (p < 0.0) {
+      t0 = std::max(t0, r);
+    } else {
+      t1 = std::min(t1, r);
+    }
+    return t0 <= t1;
+  };
+  const double rel_n = w.from.north_m - origin_.north_m;
+  const double rel_e = w.from.east_m - origin_.east_m;
+  const double size_n = rows_ * resolution_m_;
+  const double size_e = cols_ * resolution_m_;
+  if (!clip(-dn, rel_n) || !clip(dn, size_n - rel_n) || !clip(-de, rel_e) ||
+      !clip(de, size_e - rel_e)) {
+    return queued;
+  }
   // Steps of half a cell: consecutive cells touch at least at a corner, and the inflation round
   // each closes the diagonal gaps.
+  const double len = (t1 - t0) * std::hypot(dn, de);
   const auto steps = static_cast<std::size_t>(std::ceil(len / (0.5 * resolution_m_)));
   for (std::size_t i = 0; i <= steps; ++i) {
-    const double f = steps == 0 ? 0.0 : static_cast<double>(i) / static_cast<double>(steps);
-    const auto c = v.cell_of({w.from.north_m + f * (w.to.north_m - w.from.north_m),
-                              w.from.east_m + f * (w.to.east_m - w.from.east_m)});
+    const double f =
+        t0 + (steps == 0 ? 0.0 : (t1 - t0) * static_cast<double>(i) / static_cast<double>(steps));
+    const auto c = v.cell_of({w.from.north_m + f * dn, w.from.east_m + f * de});
     if (!c) continue;
     const auto k = static_cast<std::uint32_t>(v.index(*c));
     if (dist2_[k] == 0) continue;

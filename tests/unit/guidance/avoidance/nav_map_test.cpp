@@ -503,6 +503,15 @@ TEST(MapPlanner, WallsOnAGatesLineMakeThePathCrossBetweenItsEnds) {
   EXPECT_LT(across, 1.5);
   ASSERT_EQ(planner.plan(m, start, goal), PlanStatus::kOk);
   EXPECT_GT(crossing_east_m(planner.path(), 10.0), 1.5);
+  // Walls reaching far off the map are cut to it (the steps stay bounded); a wall with a
+  // non-finite end is ignored.
+  const std::vector<PlanWall> long_walls{{{10.0, -1.5}, {10.0, -1e12}},
+                                         {{10.0, 1.5}, {10.0, 1e12}}};
+  ASSERT_EQ(planner.plan(m, start, goal, long_walls), PlanStatus::kOk);
+  EXPECT_NEAR(crossing_east_m(planner.path(), 10.0), across, 1e-9);
+  const std::vector<PlanWall> broken{{{10.0, 1.5}, {10.0, std::nan("")}}};
+  ASSERT_EQ(planner.plan(m, start, goal, broken), PlanStatus::kOk);
+  EXPECT_GT(crossing_east_m(planner.path(), 10.0), 1.5);
   // A boat on a wall (its position in it) leaves on the side it came from.
   ASSERT_EQ(planner.plan(m, {9.0, 4.0}, goal, walls), PlanStatus::kOk);
   ASSERT_EQ(planner.plan(m, {10.0, 4.0}, goal, walls), PlanStatus::kOk);
