@@ -31,6 +31,10 @@ struct GateTrack {
   [[nodiscard]] core::NavPoint mid() const {
     return {0.5 * (left.north_m + right.north_m), 0.5 * (left.east_m + right.east_m)};
   }
+  /// From the port end to the starboard end.
+  [[nodiscard]] core::NavPoint span() const {
+    return {right.north_m - left.north_m, right.east_m - left.east_m};
+  }
 };
 
 /// Avoidance toward the waypoints (the gates); for course 1, then the turn to find the buoy.
@@ -232,8 +236,8 @@ class AvoidanceTask final : public AvoidingTask {
 
   /// A gate's forward normal: square to the line between its ends, on the leg's side.
   [[nodiscard]] core::NavPoint gate_normal(const GateTrack& g) const {
-    const double dn = g.right.north_m - g.left.north_m;
-    const double de = g.right.east_m - g.left.east_m;
+    const double dn = g.span().north_m;
+    const double de = g.span().east_m;
     const double len = std::max(std::hypot(dn, de), 1e-6);
     // Left to right turned 90 deg to port is forward (north-east frame, clockwise headings).
     core::NavPoint n{de / len, -dn / len};
@@ -401,8 +405,8 @@ class AvoidanceTask final : public AvoidingTask {
         const double f = prev_side_ / (prev_side_ - side);
         const core::NavPoint x{prev_.north_m + f * (p.north_m - prev_.north_m),
                                prev_.east_m + f * (p.east_m - prev_.east_m)};
-        const double dn = g.right.north_m - g.left.north_m;
-        const double de = g.right.east_m - g.left.east_m;
+        const double dn = g.span().north_m;
+        const double de = g.span().east_m;
         const double width = std::max(std::hypot(dn, de), 1e-9);
         const double across =
             ((x.north_m - g.left.north_m) * dn + (x.east_m - g.left.east_m) * de) / width;
@@ -504,8 +508,8 @@ class AvoidanceTask final : public AvoidingTask {
     if (judging_a_gate() && gates_.wall_m > 0.0) {
       // The gate's line beyond its ends is a wall for the path: it crosses between them.
       const GateTrack g = judged_gate();
-      const double dn = g.right.north_m - g.left.north_m;
-      const double de = g.right.east_m - g.left.east_m;
+      const double dn = g.span().north_m;
+      const double de = g.span().east_m;
       const double width = std::max(std::hypot(dn, de), 1e-9);
       const double f = gates_.wall_m / width;
       r.walls[0] = {g.left, {g.left.north_m - f * dn, g.left.east_m - f * de}};
