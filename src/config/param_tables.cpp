@@ -833,6 +833,10 @@ constexpr std::array kPlanning{
         "the sub-goal comes nearer, down to this, until the boat can steer straight at it"),
     int_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::max_expansions>(
         "planner.max_expansions", "", 1, 1 << 20, kFixed, "A* expansion budget per plan"),
+    real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::heuristic_weight>(
+        "planner.heuristic_weight", "", 1.0, 5.0, kFixed,
+        "weighted A*: a path at most this many times the cheapest one's cost, found faster "
+        "(1: the cheapest)"),
     real_param<PlanningConfig, &PlanningConfig::planner, &MapPlannerParams::goal_search_m>(
         "planner.goal_search_m", "m", 0.0, 5.0, kFixed,
         "a blocked goal moves to the nearest free cell this near"),

@@ -135,9 +135,11 @@ class AStarPlanner {
     return plan(grid.view(), start, goal);
   }
   /// As above on any grid of this planner's shape; gives up with kBudget after `max_expanded`
-  /// expansions (a bound on the time one plan may take).
+  /// expansions (a bound on the time one plan may take). `heuristic_weight` > 1 trades length
+  /// for time: the path found is at most that many times the shortest one's cost, and far fewer
+  /// cells are expanded where obstacles stand between start and goal (weighted A*).
   [[nodiscard]] PlanStatus plan(const GridView& grid, core::NavPoint start, core::NavPoint goal,
-                                std::size_t max_expanded = SIZE_MAX);
+                                std::size_t max_expanded = SIZE_MAX, float heuristic_weight = 1.0F);
   /// The last successful path (empty after a failure).
   [[nodiscard]] const std::vector<core::NavPoint>& path() const { return path_; }
   /// Cells expanded by the last call (for benchmarks and tests).

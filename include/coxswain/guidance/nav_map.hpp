@@ -83,7 +83,11 @@ struct MapPlannerParams {
   // the path. Off by default with the clearance cost (docs/results.md).
   double line_of_sight_min_m = 3.0;
   std::uint32_t max_expansions = 60000;  // A* budget per plan (bounds its time)
-  double goal_search_m = 1.5;            // a blocked goal moves to the nearest free cell this near
+  // A* aims this much harder at the goal than the exact search (weighted A*): a path at most
+  // this many times the cheapest one's cost, found with far fewer expansions where obstacles
+  // stand between. 1: the cheapest path.
+  double heuristic_weight = 1.0;
+  double goal_search_m = 1.5;  // a blocked goal moves to the nearest free cell this near
   // No path: stop, back off, turn to look, replan; never drive at the goal.
   double stop_s = 1.0;
   double back_off_s = 4.0;  // astern is weak: 2 s at 0.3 moved a boat pinned on a wall 0.25 m

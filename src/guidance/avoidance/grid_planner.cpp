@@ -232,7 +232,7 @@ std::uint32_t AStarPlanner::heap_pop() {
 }
 
 PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::NavPoint goal,
-                              std::size_t max_expanded) {
+                              std::size_t max_expanded, float heuristic_weight) {
   path_.clear();
   expanded_ = 0;
   if (grid.rows != rows_ || grid.cols != cols_ || grid.state == nullptr) return PlanStatus::kNoPath;
@@ -261,7 +261,10 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
   const auto t = static_cast<std::uint32_t>(grid.index(*g_cell));
   touch(s);
   g_[s] = 0.0F;
-  h_[s] = octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
+  // A weight below 1 or not finite would only slow the search: taken as 1.
+  const float weight =
+      heuristic_weight > 1.0F && std::isfinite(heuristic_weight) ? heuristic_weight : 1.0F;
+  h_[s] = weight * octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
   parent_[s] = s;
   escaping_[s] = grid.at(*s_cell) != CellState::kFree ? 1 : 0;
   heap_push(s, h_[s]);
@@ -315,8 +318,8 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
                                       static_cast<std::uint32_t>(nc)}) == CellState::kFree;
         escaping_[nb] = nb_free ? 0 : 1;
         if (heap_pos_[nb] == kNotInHeap) {
-          h_[nb] = octile(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc),
-                          g_cell->row, g_cell->col);
+          h_[nb] = weight * octile(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc),
+                                   g_cell->row, g_cell->col);
           heap_push(nb, cand + h_[nb]);
         } else {
           heap_decrease(nb, cand + h_[nb]);

@@ -51,6 +51,9 @@ std::optional<std::string> MapPlannerParams::validate() const {
   if (!finite_nonneg(sight_full_speed_m) || sight_full_speed_m > 100.0) {
     return "planner: sight_full_speed_m in [0, 100]";
   }
+  if (!(heuristic_weight >= 1.0 && heuristic_weight <= 5.0)) {
+    return "planner: heuristic_weight in [1, 5]";
+  }
   if (!std::isfinite(turn_slow_deg) || turn_slow_deg < 0.0 || turn_slow_deg >= 90.0) {
     return "planner: turn_slow_deg in [0, 90)";
   }
@@ -743,7 +746,8 @@ PlanStatus MapPlanner::plan(const NavMap& map, core::NavPoint start, core::NavPo
     }
   }
   fade_near(g);
-  status_ = astar_.plan(v, start, g, params_.max_expansions);
+  status_ = astar_.plan(v, start, g, params_.max_expansions,
+                        static_cast<float>(params_.heuristic_weight));
   if (status_ == PlanStatus::kOk) {
     path_ = astar_.path();
   } else {

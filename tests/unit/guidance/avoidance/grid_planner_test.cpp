@@ -215,5 +215,38 @@ TEST(AStar, DeterministicAndRepeatable) {
   }
 }
 
+TEST(AStar, AWeightedHeuristicExpandsFewerCellsForAPathWithinItsBound) {
+  OccupancyGrid g = make(params());
+  for (int k = 0; k < 2; ++k) {  // a cup open toward the start, the goal behind it
+    g.mark_segment({12.0, 4.0}, {12.0, 16.0});
+    g.mark_segment({12.0, 4.0}, {8.0, 4.0});
+    g.mark_segment({12.0, 16.0}, {8.0, 16.0});
+  }
+  g.rebuild_inflation();
+  const NavPoint start{5.0, 10.0};
+  const NavPoint goal{17.0, 10.0};
+  AStarPlanner exact(g.rows(), g.cols());
+  ASSERT_EQ(exact.plan(g.view(), start, goal), PlanStatus::kOk);
+  const double shortest = path_length(exact.path());
+  for (const float w : {1.2F, 1.5F, 3.0F}) {
+    AStarPlanner weighted(g.rows(), g.cols());
+    ASSERT_EQ(weighted.plan(g.view(), start, goal, SIZE_MAX, w), PlanStatus::kOk) << w;
+    EXPECT_TRUE(path_is_free(g, weighted.path())) << w;
+    EXPECT_LT(weighted.expanded(), exact.expanded()) << w;
+    EXPECT_LE(path_length(weighted.path()), static_cast<double>(w) * shortest + 1e-9) << w;
+  }
+  // A weight below 1 or not finite is taken as 1: the exact search, cell for cell.
+  for (const float w : {0.5F, std::nanf(""), INFINITY}) {
+    AStarPlanner same(g.rows(), g.cols());
+    ASSERT_EQ(same.plan(g.view(), start, goal, SIZE_MAX, w), PlanStatus::kOk);
+    EXPECT_EQ(same.expanded(), exact.expanded());
+    ASSERT_EQ(same.path().size(), exact.path().size());
+    for (std::size_t i = 0; i < same.path().size(); ++i) {
+      EXPECT_EQ(same.path()[i].north_m, exact.path()[i].north_m);
+      EXPECT_EQ(same.path()[i].east_m, exact.path()[i].east_m);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace coxswain::guidance

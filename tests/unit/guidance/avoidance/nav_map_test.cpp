@@ -295,6 +295,21 @@ TEST(MapPlanner, TheExpansionBudgetBoundsOnePlan) {
   EXPECT_LE(planner.expanded(), 10U);
 }
 
+TEST(MapPlanner, AWeightedHeuristicIsPassedOnAndOutOfRangeWeightsAreRejected) {
+  NavMap m(small_map(), {}, {});
+  MapPlannerParams p;
+  MapPlanner exact(m, p, 0.45);
+  ASSERT_EQ(exact.plan(m, {0.0, 0.0}, {20.0, 10.0}), PlanStatus::kOk);
+  p.heuristic_weight = 1.5;
+  MapPlanner weighted(m, p, 0.45);
+  ASSERT_EQ(weighted.plan(m, {0.0, 0.0}, {20.0, 10.0}), PlanStatus::kOk);
+  EXPECT_LT(weighted.expanded(), exact.expanded());
+  for (const double w : {0.99, 5.01, std::nan("")}) {
+    p.heuristic_weight = w;
+    EXPECT_THROW(MapPlanner(m, p, 0.45), std::invalid_argument) << w;
+  }
+}
+
 TEST(MapPlanner, KnownNoGoAreasAreInflatedAndPlannedAround) {
   NavMapParams mp = small_map();
   const std::vector<std::vector<NavPoint>> no_go{
