@@ -264,7 +264,10 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
   // A weight below 1 or not finite would only slow the search: taken as 1.
   const float weight =
       heuristic_weight > 1.0F && std::isfinite(heuristic_weight) ? heuristic_weight : 1.0F;
-  h_[s] = weight * octile(s_cell->row, s_cell->col, g_cell->row, g_cell->col);
+  const auto heuristic = [&](std::uint32_t r, std::uint32_t c) {
+    return weight * octile(r, c, g_cell->row, g_cell->col);
+  };
+  h_[s] = heuristic(s_cell->row, s_cell->col);
   parent_[s] = s;
   escaping_[s] = grid.at(*s_cell) != CellState::kFree ? 1 : 0;
   heap_push(s, h_[s]);
@@ -318,8 +321,7 @@ PlanStatus AStarPlanner::plan(const GridView& grid, core::NavPoint start, core::
                                       static_cast<std::uint32_t>(nc)}) == CellState::kFree;
         escaping_[nb] = nb_free ? 0 : 1;
         if (heap_pos_[nb] == kNotInHeap) {
-          h_[nb] = weight * octile(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc),
-                                   g_cell->row, g_cell->col);
+          h_[nb] = heuristic(static_cast<std::uint32_t>(nr), static_cast<std::uint32_t>(nc));
           heap_push(nb, cand + h_[nb]);
         } else {
           heap_decrease(nb, cand + h_[nb]);
