@@ -364,7 +364,6 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     double cb = 0.0;
     double sb = 0.0;
     if (!unit_of(static_cast<double>(p.bearing_deg), cb, sb)) continue;
-    if (hull.contains(range * cb, range * sb)) continue;
     const double a = h + core::deg_to_rad(static_cast<double>(p.bearing_deg));
     const bool hit = range <= max_range;
     const auto reach = static_cast<float>(hit ? range : max_range);
@@ -373,7 +372,10 @@ void NavMap::add_scan(const msg::LidarScan& scan, const core::NavPose& pose,
     float& slot = ranges[bin];
     slot = slot < 0.0F ? reach : std::min(slot, reach);
     any = true;
-    if (!hit) continue;
+    // A return inside the hull box marks nothing (it is the boat, or something so near astern
+    // the two cannot be told apart), but the beam saw no farther: were it dropped, its bin
+    // would take the beams either side, and they would clear a buoy lying astern.
+    if (!hit || hull.contains(range * cb, range * sb)) continue;
     // The beam's direction in the navigation frame: its body bearing turned by the heading.
     const double ca = cb * ch - sb * sh;
     const double sa = sb * ch + cb * sh;

@@ -226,6 +226,25 @@ TEST(NavMap, AHullAgainstAWallDoesNotMarkTheWaterBehindItAsSeen) {
   EXPECT_LT(behind(unguarded), 0.0F);  // the square beams' "no return" would clear it
 }
 
+TEST(NavMap, ABuoyAsternInsideTheHullBoxIsNotClearedByTheBeamsBesideIt) {
+  // The boat sails on past a buoy until it lies astern inside the hull box (returns there are
+  // taken for the boat itself): the beams that hit it are dropped, and the beams either side of
+  // it reach the wall far behind. The buoy must stay on the map -- the boat may back onto it.
+  NavMap m(small_map(), {}, {});
+  const NavPoint buoy{5.0, 0.0};
+  auto world = post(buoy, 0.12);
+  world.push_back({{-8.0, -8.0}, {-8.0, 8.0}});
+  for (int i = 0; i <= 10; ++i) {
+    const core::NavPose pose{{0.3 * i, 0.0}, 0.0};
+    m.add_scan(scan_of(pose, world), pose, kHull);
+  }
+  ASSERT_TRUE(occupied_at(m, {buoy.north_m - 0.05, buoy.east_m}));
+  // Past it, heading on: the buoy 1.5 m behind the lidar, inside the box (stern at -1.1 m).
+  const core::NavPose past{{buoy.north_m + 1.5, 0.0}, 0.0};
+  for (int i = 0; i < 20; ++i) m.add_scan(scan_of(past, world), past, kHull);
+  EXPECT_TRUE(occupied_at(m, {buoy.north_m - 0.05, buoy.east_m}));
+}
+
 // A dead end open toward the boat: the goal lies straight on behind its back wall.
 std::vector<std::pair<NavPoint, NavPoint>> u_walls() {
   return {{{10.0, -3.0}, {10.0, 3.0}}, {{5.0, -3.0}, {10.0, -3.0}}, {{5.0, 3.0}, {10.0, 3.0}}};
