@@ -170,6 +170,13 @@ constexpr std::array kAvoidance{
         "swept hull: room kept between the hull and obstacles"),
     real_param<AvoidanceParams, &AvoidanceParams::sweep_step_deg>(
         "sweep.step_deg", "deg", 0.5, 45.0, kLive, "swept hull: heading step along the arc"),
+    real_param<AvoidanceParams, &AvoidanceParams::path_clearance_m>(
+        "path_clearance_m", "m", -1.0, 2.0, kLive,
+        "toward a planned path's sub-goal, the room kept each side of the hull in the bins near "
+        "its bearing (negative: clearance_m)"),
+    int_param<AvoidanceParams, &AvoidanceParams::path_bins>(
+        "path_bins", "", 0, 45, kLive,
+        "bins either side of a planned sub-goal's bearing that take path_clearance_m"),
 };
 
 using guidance::LineFollowParams;

@@ -125,14 +125,14 @@ class AvoidanceTask final : public AvoidingTask {
     }
     if (!moving_on) return unstick(ctx, aim, out);
     fill_viz(ctx, goal);
-    const double turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, aim), out);
+    const double turned_deg = steer(ctx, core::bearing_deg(ctx.antenna, aim), out, planned_aim);
     // The avoidance turned far from the sub-goal: round a corner of the path it would take the
     // free heading nearest the sub-goal's bearing, which may lead into the pocket the path goes
     // round. The path's nearer point in plain sight says which way round.
     if (planned_aim && std::abs(turned_deg) > kDivergeDeg) {
       if (const auto near = ctx.planner->subgoal(ctx.antenna, kNearSubgoalM);
           near && core::distance_m(*near, aim) > 0.25) {
-        steer(ctx, core::bearing_deg(ctx.antenna, *near), out);
+        steer(ctx, core::bearing_deg(ctx.antenna, *near), out, true);
       }
     }
     if (planned_aim) {
@@ -182,9 +182,11 @@ class AvoidanceTask final : public AvoidingTask {
 
   /// Steers toward `desired_deg` round what the lidar sees; returns how far (deg) the avoidance
   /// turned from it.
-  double steer(const TaskContext& ctx, double desired_deg, GuidanceRequest& out) {
+  double steer(const TaskContext& ctx, double desired_deg, GuidanceRequest& out,
+               bool planned = false) {
     const double goal_body = core::angle_diff_deg(desired_deg, ctx.pose.heading_deg);
-    const guidance::AvoidanceDecision d = avoidance_->decide(*ctx.obstacles, goal_body, ctx.now_ns);
+    const guidance::AvoidanceDecision d =
+        avoidance_->decide(*ctx.obstacles, goal_body, ctx.now_ns, planned);
     VizFrame& v = *ctx.viz;
     v.has_avoidance = true;
     v.avoidance_bearing_body_deg = d.bearing_body_deg;

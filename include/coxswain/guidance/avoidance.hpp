@@ -110,6 +110,13 @@ struct AvoidanceParams {
   double sweep_turn_radius_m = 2.6;  // radius of the pivot's path in a hard turn
   double sweep_clearance_m = 0.2;    // room kept between the swept hull and obstacles
   double sweep_step_deg = 3.0;       // heading step along the predicted arc
+  // Toward the sub-goal of a planned path (a passage the global planner found on its map, with
+  // its own clearance), the bins within path_bins of the goal's keep this much room each side
+  // instead of clearance_m: a gap met at a slant is narrower across the corridor than it is, and
+  // the full margin would refuse the passage the path goes through. Negative: clearance_m.
+  // Swept hull only.
+  double path_clearance_m = -1.0;
+  int path_bins = 2;
 
   /// Empty when valid, else the first problem found.
   [[nodiscard]] std::optional<std::string> validate() const;
@@ -147,8 +154,10 @@ class Avoidance {
 
   /// `goal_bearing_body_deg`: bearing of the goal relative to the bow (psi_g), + starboard.
   /// `now`: tick time, used only for the hold time.
+  /// `planned_goal`: the goal is a planned path's sub-goal (path_clearance_m applies).
   [[nodiscard]] AvoidanceDecision decide(const perception::ObstacleList& obstacles,
-                                         double goal_bearing_body_deg, core::TimeNs now);
+                                         double goal_bearing_body_deg, core::TimeNs now,
+                                         bool planned_goal = false);
   /// Forgets the previous choice (new mission leg).
   void reset();
   /// Largest turn, up to `turn_deg` (at most 180), that the swept hull allows to `side`, tested
@@ -190,6 +199,12 @@ class Avoidance {
   void compute_path_ranges(const perception::ObstacleList& obstacles);
   // Lowers range_m_[j] to where the segment a-b enters bin j's corridor (half-width w).
   void path_range_exact(std::size_t j, double af, double as, double bf, double bs, double w);
+  // How far along bin j's predicted path the segment a-b enters its corridor (half-width w);
+  // infinity when it never does.
+  [[nodiscard]] double corridor_entry_m(std::size_t j, double af, double as, double bf, double bs,
+                                        double w) const;
+  // Widens the bins near the goal's to the planned path's corridor (path_clearance_m).
+  void open_path_bins(const perception::ObstacleList& obstacles, std::size_t goal_bin);
   // Calls path_range_exact for the bins a segment may lower: those its bounding circle (middle,
   // half length) comes near, by the culling tests in floats.
   void cull_path_ranges(double af, double as, double bf, double bs, double w, bool capped);

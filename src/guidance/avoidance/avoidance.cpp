@@ -299,6 +299,9 @@ std::optional<std::string> AvoidanceParams::validate() const {
   if (!(sweep_step_deg >= 0.5 && sweep_step_deg <= 45.0)) {
     return "sweep: sweep_step_deg must be in [0.5, 45]";
   }
+  if (std::isnan(path_clearance_m) || path_clearance_m > 2.0 || path_bins < 0 || path_bins > 45) {
+    return "path_clearance_m must be <= 2 (negative: clearance_m), path_bins in [0, 45]";
+  }
   return {};
 }
 
@@ -887,6 +890,14 @@ void Avoidance::cull_path_ranges(double af, double as, double bf, double bs, dou
 
 void Avoidance::path_range_exact(std::size_t j, double af, double as, double bf, double bs,
                                  double w) {
+  const double entry_m = corridor_entry_m(j, af, as, bf, bs, w);
+  if (!(entry_m < range_m_[j])) return;
+  range_m_[j] = entry_m;
+  bin_lanes_.range_m[j] = static_cast<float>(range_m_[j]);
+}
+
+double Avoidance::corridor_entry_m(std::size_t j, double af, double as, double bf, double bs,
+                                   double w) const {
   // The segment in the frame of the boat at the end of the turn onto bin j.
   const double c = arc_cos_[j];
   const double sn = arc_sin_[j];
@@ -920,10 +931,31 @@ void Avoidance::path_range_exact(std::size_t j, double af, double as, double bf,
   keep(w + s0, w + s1);
   keep(w - s0, w - s1);
   keep(f0, f1);
-  if (t_lo > t_hi) return;
+  if (t_lo > t_hi) return kInf;
   const double f_near = std::min(f0 + (f1 - f0) * t_lo, f0 + (f1 - f0) * t_hi);
-  range_m_[j] = std::min(range_m_[j], arc_len_m_[j] + std::max(0.0, f_near));
-  bin_lanes_.range_m[j] = static_cast<float>(range_m_[j]);
+  return arc_len_m_[j] + std::max(0.0, f_near);
+}
+
+void Avoidance::open_path_bins(const perception::ObstacleList& obstacles, std::size_t goal_bin) {
+  const double w = params_.half_beam_m + params_.path_clearance_m;
+  const double start_m = params_.strategy != Strategy::kRiskBin ? params_.detection_range_m
+                                                                : AngleBins::kNoObstacle;
+  const auto reach = static_cast<std::size_t>(std::max(0, params_.path_bins));
+  const std::size_t lo = goal_bin > reach ? goal_bin - reach : 0;
+  const std::size_t hi = std::min(bins_.size(), goal_bin + reach + 1);
+  const std::uint32_t count =
+      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  for (std::size_t j = lo; j < hi; ++j) {
+    double range = start_m;
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+      if (!ends) continue;
+      const auto [af, as, bf, bs] = *ends;
+      range = std::min(range, corridor_entry_m(j, af, as, bf, bs, w));
+    }
+    // Never narrower than the full corridor's (a narrower corridor meets less).
+    range_m_[j] = std::max(range_m_[j], range);
+  }
 }
 
 void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
@@ -973,7 +1005,8 @@ void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
 }
 
 AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
-                                    double goal_bearing_body_deg, core::TimeNs now) {
+                                    double goal_bearing_body_deg, core::TimeNs now,
+                                    bool planned_goal) {
   AvoidanceDecision out;
   const std::size_t n = bins_.size();
   out.bin_count = static_cast<std::uint32_t>(n);
@@ -1019,6 +1052,11 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
   }
   out.sweep_port_deg = sweep_port_deg_;
   out.sweep_starboard_deg = sweep_starboard_deg_;
+  if (planned_goal && params_.sweep_enabled && params_.path_clearance_m >= 0.0 &&
+      params_.path_clearance_m < params_.clearance_m) {
+    const std::size_t goal_bin = bins_.index_of(goal_deg_);
+    if (goal_bin < n) open_path_bins(obstacles, goal_bin);
+  }
 
   // All blocked: shrink the range stepwise so only near obstacles count.
   const double full_limit = params_.strategy == Strategy::kRiskBin
