@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "coxswain/core/angles.hpp"
@@ -85,6 +86,12 @@ TEST(AvoidanceParams, ValidateAndNames) {
     EXPECT_EQ(parse_strategy(to_string(s)), s);
   }
   EXPECT_FALSE(parse_strategy("fuzzy").has_value());
+  p = {};
+  p.path_bins = -1;
+  EXPECT_TRUE(p.validate().has_value());
+  p = {};
+  p.path_clearance_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(p.validate().has_value());
   EXPECT_NEAR(AvoidanceParams{}.risk_range_m(), (1.5 - std::log(0.005)) / 2.7, 1e-12);
 }
 
@@ -371,6 +378,41 @@ TEST(SweptHull, ABuoyAlreadyInsideTheClearanceDoesNotFreezeTheBoat) {
   EXPECT_EQ(d.status, AvoidanceStatus::kClear);
   const auto ahead = a.decide(close, 0.0, kTick);
   EXPECT_NEAR(ahead.bearing_body_deg, 0.0, 1e-9);
+}
+
+TEST(SweptHull, APlannedSubGoalThroughAGapMetAtASlantTakesThePathsNarrowerCorridor) {
+  // Two buoys 2.8 m apart, their line at 45 deg to the bow, the gap's middle 4 m dead ahead
+  // where the goal lies. Across the corridor ahead the buoys' faces come 0.75 m from the centre
+  // line: inside the full corridor (0.45 + 0.35 m), outside the path's (0.45 + 0.15 m).
+  const double half_gap = 1.4 / std::sqrt(2.0);
+  const auto gap = list_of({buoy(std::hypot(4.0 + half_gap, half_gap),
+                                 core::rad_to_deg(std::atan2(half_gap, 4.0 + half_gap)), 0.25),
+                            buoy(std::hypot(4.0 - half_gap, half_gap),
+                                 core::rad_to_deg(std::atan2(-half_gap, 4.0 - half_gap)), 0.25)});
+  AvoidanceParams p = swept();
+  p.strategy = Strategy::kScore;
+  p.path_clearance_m = 0.15;
+  for (const bool planned : {false, true}) {
+    Avoidance a = make(Strategy::kScore, p);
+    const auto d = a.decide(gap, 0.0, 0, planned);
+    if (planned) {
+      EXPECT_EQ(d.bearing_body_deg, 0.0);  // through the gap
+    } else {
+      EXPECT_GT(std::abs(d.bearing_body_deg), 5.0);  // the full margin refuses it
+    }
+  }
+  // Off (negative), the planned sub-goal keeps the full corridor too.
+  p.path_clearance_m = -1.0;
+  Avoidance off = make(Strategy::kScore, p);
+  EXPECT_GT(std::abs(off.decide(gap, 0.0, 0, true).bearing_body_deg), 5.0);
+  // The narrower corridor still meets a buoy in it: the same turn away, planned or not.
+  p.path_clearance_m = 0.15;
+  Avoidance a = make(Strategy::kScore, p);
+  Avoidance b = make(Strategy::kScore, p);
+  const auto ahead = list_of({buoy(2.8, 4.0, 0.25)});
+  const auto planned = a.decide(ahead, 0.0, 0, true);
+  EXPECT_GT(std::abs(planned.bearing_body_deg), 5.0) << to_string(planned.status);
+  EXPECT_EQ(planned.bearing_body_deg, b.decide(ahead, 0.0, 0, false).bearing_body_deg);
 }
 
 TEST(SweptHull, TheArcToAHeadingIsCheckedNotJustTheRayFromTheBow) {
