@@ -938,8 +938,8 @@ double Avoidance::corridor_entry_m(std::size_t j, double af, double as, double b
 
 void Avoidance::open_path_bins(const perception::ObstacleList& obstacles, std::size_t goal_bin) {
   const double w = params_.half_beam_m + params_.path_clearance_m;
-  const double start_m = params_.strategy != Strategy::kRiskBin ? params_.detection_range_m
-                                                                : AngleBins::kNoObstacle;
+  const double start_m =
+      params_.strategy != Strategy::kRiskBin ? params_.detection_range_m : AngleBins::kNoObstacle;
   const auto reach = static_cast<std::size_t>(std::max(0, params_.path_bins));
   const std::size_t lo = goal_bin > reach ? goal_bin - reach : 0;
   const std::size_t hi = std::min(bins_.size(), goal_bin + reach + 1);
