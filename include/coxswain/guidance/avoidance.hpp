@@ -311,6 +311,12 @@ class Avoidance {
   // every segment's end points are the same bit for bit.
   [[nodiscard]] bool same_geometry(const perception::ObstacleList& obstacles) const;
   bool geometry_valid_ = false;
+  // The planned path's corridor ranges (open_path_bins) per bin, each valid while its stamp is
+  // the geometry's: the goal's bearing drifts a bin or two between scans, so a tick between
+  // scans reuses them.
+  std::uint64_t geometry_stamp_ = 1;
+  std::array<double, AngleBins::kMaxBins> narrow_range_m_{};
+  std::array<std::uint64_t, AngleBins::kMaxBins> narrow_stamp_{};
   bool bins_filled_ = false;  // bins_ hold the ranges of the obstacles last decided on
   std::uint32_t geometry_count_ = 0;
   std::array<std::array<double, 4>, perception::ObstacleList::kMaxSegments> geometry_segments_{};

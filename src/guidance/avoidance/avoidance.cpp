@@ -938,23 +938,30 @@ double Avoidance::corridor_entry_m(std::size_t j, double af, double as, double b
 
 void Avoidance::open_path_bins(const perception::ObstacleList& obstacles, std::size_t goal_bin) {
   const double w = params_.half_beam_m + params_.path_clearance_m;
-  const double start_m =
-      params_.strategy != Strategy::kRiskBin ? params_.detection_range_m : AngleBins::kNoObstacle;
+  // As compute_path_ranges: the capped strategies start at the detection range, and a segment
+  // that cannot come nearer along any bin's path cannot lower it.
+  const bool capped = params_.strategy != Strategy::kRiskBin;
+  const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
   const auto reach = static_cast<std::size_t>(std::max(0, params_.path_bins));
   const std::size_t lo = goal_bin > reach ? goal_bin - reach : 0;
   const std::size_t hi = std::min(bins_.size(), goal_bin + reach + 1);
   const std::uint32_t count =
       std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
   for (std::size_t j = lo; j < hi; ++j) {
-    double range = start_m;
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
-      if (!ends) continue;
-      const auto [af, as, bf, bs] = *ends;
-      range = std::min(range, corridor_entry_m(j, af, as, bf, bs, w));
+    if (narrow_stamp_[j] != geometry_stamp_) {
+      double range = start_m;
+      for (std::uint32_t k = 0; k < count; ++k) {
+        const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+        if (!ends) continue;
+        const auto [af, as, bf, bs] = *ends;
+        if (capped && point_segment_farther_than(0.0, 0.0, af, as, bf, bs, path_reach_m_)) continue;
+        range = std::min(range, corridor_entry_m(j, af, as, bf, bs, w));
+      }
+      narrow_range_m_[j] = range;
+      narrow_stamp_[j] = geometry_stamp_;
     }
     // Never narrower than the full corridor's (a narrower corridor meets less).
-    range_m_[j] = std::max(range_m_[j], range);
+    range_m_[j] = std::max(range_m_[j], narrow_range_m_[j]);
   }
 }
 
@@ -1049,6 +1056,7 @@ AvoidanceDecision Avoidance::decide(const perception::ObstacleList& obstacles,
     geometry_sweep_starboard_deg_ = sweep_starboard_deg_;
     geometry_nearest_m_ = out.nearest_m;
     geometry_valid_ = true;
+    ++geometry_stamp_;
   }
   out.sweep_port_deg = sweep_port_deg_;
   out.sweep_starboard_deg = sweep_starboard_deg_;

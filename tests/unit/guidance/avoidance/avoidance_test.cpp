@@ -413,6 +413,10 @@ TEST(SweptHull, APlannedSubGoalThroughAGapMetAtASlantTakesThePathsNarrowerCorrid
   const auto planned = a.decide(ahead, 0.0, 0, true);
   EXPECT_GT(std::abs(planned.bearing_body_deg), 5.0) << to_string(planned.status);
   EXPECT_EQ(planned.bearing_body_deg, b.decide(ahead, 0.0, 0, false).bearing_body_deg);
+  // The corridor's ranges are kept between scans: a new scan replaces them.
+  Avoidance c = make(Strategy::kScore, p);
+  EXPECT_EQ(c.decide(gap, 0.0, 0, true).bearing_body_deg, 0.0);
+  EXPECT_EQ(c.decide(ahead, 0.0, kTick, true).bearing_body_deg, planned.bearing_body_deg);
 }
 
 TEST(SweptHull, TheArcToAHeadingIsCheckedNotJustTheRayFromTheBow) {
