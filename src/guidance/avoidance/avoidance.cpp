@@ -942,27 +942,36 @@ void Avoidance::open_path_bins(const perception::ObstacleList& obstacles, std::s
   // that cannot come nearer along any bin's path cannot lower it.
   const bool capped = params_.strategy != Strategy::kRiskBin;
   const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
-  const auto reach = static_cast<std::size_t>(std::max(0, params_.path_bins));
-  const std::size_t lo = goal_bin > reach ? goal_bin - reach : 0;
-  const std::size_t hi = std::min(bins_.size(), goal_bin + reach + 1);
-  const std::uint32_t count =
-      std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+  const auto span = static_cast<std::size_t>(std::max(0, params_.path_bins));
+  const std::size_t lo = goal_bin > span ? goal_bin - span : 0;
+  const std::size_t hi = std::min(bins_.size(), goal_bin + span + 1);
+  // The bins of the window not worked out for this geometry yet (a new scan: all of them; a
+  // tick between scans: those the goal's bearing has drifted onto, mostly none).
+  std::size_t stale_lo = hi;
+  std::size_t stale_hi = lo;
   for (std::size_t j = lo; j < hi; ++j) {
-    if (narrow_stamp_[j] != geometry_stamp_) {
-      double range = start_m;
-      for (std::uint32_t k = 0; k < count; ++k) {
-        const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
-        if (!ends) continue;
-        const auto [af, as, bf, bs] = *ends;
-        if (capped && point_segment_farther_than(0.0, 0.0, af, as, bf, bs, path_reach_m_)) continue;
-        range = std::min(range, corridor_entry_m(j, af, as, bf, bs, w));
-      }
-      narrow_range_m_[j] = range;
-      narrow_stamp_[j] = geometry_stamp_;
-    }
-    // Never narrower than the full corridor's (a narrower corridor meets less).
-    range_m_[j] = std::max(range_m_[j], narrow_range_m_[j]);
+    if (narrow_stamp_[j] == geometry_stamp_) continue;
+    narrow_stamp_[j] = geometry_stamp_;
+    narrow_range_m_[j] = start_m;
+    stale_lo = std::min(stale_lo, j);
+    stale_hi = j + 1;
   }
+  if (stale_lo < stale_hi) {
+    const std::uint32_t count =
+        std::min<std::uint32_t>(obstacles.count, perception::ObstacleList::kMaxSegments);
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const std::optional<SegmentEnds> ends = finite_ends(obstacles.segments[k]);
+      if (!ends) continue;
+      const auto [af, as, bf, bs] = *ends;
+      if (capped && point_segment_farther_than(0.0, 0.0, af, as, bf, bs, path_reach_m_)) continue;
+      // A bin between stale ones that was already worked out gets the same minimum again.
+      for (std::size_t j = stale_lo; j < stale_hi; ++j) {
+        narrow_range_m_[j] = std::min(narrow_range_m_[j], corridor_entry_m(j, af, as, bf, bs, w));
+      }
+    }
+  }
+  // Never narrower than the full corridor's (a narrower corridor meets less).
+  for (std::size_t j = lo; j < hi; ++j) range_m_[j] = std::max(range_m_[j], narrow_range_m_[j]);
 }
 
 void Avoidance::compute_sweep(const perception::ObstacleList& obstacles) {
