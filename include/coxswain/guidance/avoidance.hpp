@@ -197,6 +197,12 @@ class Avoidance {
   // bin's heading, then straight) before an obstacle comes within half_beam_m + clearance_m of
   // the centre line; the bins' straight-ray range when the sweep is off.
   void compute_path_ranges(const perception::ObstacleList& obstacles);
+  // Whether the path ranges are read only as "below the detection range or not" (every
+  // strategy but the risk bins), and so where each bin's range starts.
+  [[nodiscard]] bool path_ranges_capped() const { return params_.strategy != Strategy::kRiskBin; }
+  [[nodiscard]] double path_range_start_m() const {
+    return path_ranges_capped() ? params_.detection_range_m : AngleBins::kNoObstacle;
+  }
   // Lowers range_m_[j] to where the segment a-b enters bin j's corridor (half-width w).
   void path_range_exact(std::size_t j, double af, double as, double bf, double bs, double w);
   // How far along bin j's predicted path the segment a-b enters its corridor (half-width w);

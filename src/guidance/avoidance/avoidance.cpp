@@ -790,8 +790,8 @@ void Avoidance::compute_path_ranges(const perception::ObstacleList& obstacles) {
   // a bin starts at the detection range, and a segment or bin that cannot come nearer along the
   // path is passed over. The risk bins' danger reads the range itself: every range counts.
   const double w = params_.half_beam_m + params_.clearance_m;
-  const bool capped = params_.strategy != Strategy::kRiskBin;
-  const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
+  const bool capped = path_ranges_capped();
+  const double start_m = path_range_start_m();
   for (std::size_t j = 0; j < n_bins; ++j) {
     range_m_[j] = start_m;
     bin_lanes_.range_m[j] = static_cast<float>(start_m);
@@ -938,10 +938,10 @@ double Avoidance::corridor_entry_m(std::size_t j, double af, double as, double b
 
 void Avoidance::open_path_bins(const perception::ObstacleList& obstacles, std::size_t goal_bin) {
   const double w = params_.half_beam_m + params_.path_clearance_m;
-  // As compute_path_ranges: the capped strategies start at the detection range, and a segment
-  // that cannot come nearer along any bin's path cannot lower it.
-  const bool capped = params_.strategy != Strategy::kRiskBin;
-  const double start_m = capped ? params_.detection_range_m : AngleBins::kNoObstacle;
+  // As compute_path_ranges: a capped range starts at the detection range, and a segment that
+  // cannot come nearer along any bin's path cannot lower it.
+  const bool capped = path_ranges_capped();
+  const double start_m = path_range_start_m();
   const auto span = static_cast<std::size_t>(std::max(0, params_.path_bins));
   const std::size_t lo = goal_bin > span ? goal_bin - span : 0;
   const std::size_t hi = std::min(bins_.size(), goal_bin + span + 1);
